@@ -1,0 +1,64 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Differences between DOLFINx 0.9, 0.10 and 0.11, in one place."""
+
+from __future__ import annotations
+
+import typing
+
+import numpy as np
+import numpy.typing as npt
+
+import dolfinx
+
+__all__ = [
+    "DOLFINX_VERSION",
+    "blocked_sub_element",
+    "gmsh_model_to_mesh",
+    "submesh_parent_entities",
+]
+
+DOLFINX_VERSION: tuple[int, int] = tuple(  # type: ignore[assignment]
+    int(p) for p in dolfinx.__version__.split(".")[:2]
+)
+
+
+def gmsh_model_to_mesh(model: typing.Any, comm: typing.Any, rank: int, gdim: int) -> tuple:
+    """Distribute a Gmsh model held on ``rank`` over ``comm``.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``, whichever DOLFINx reader is present
+        (``dolfinx.io.gmshio`` up to 0.9, ``dolfinx.io.gmsh`` from 0.10).
+    """
+    if DOLFINX_VERSION >= (0, 10):
+        from dolfinx.io import gmsh as _gmsh
+
+        data = _gmsh.model_to_mesh(model, comm, rank, gdim=gdim)
+        return data.mesh, data.cell_tags, data.facet_tags
+    from dolfinx.io import gmshio as _gmshio
+
+    return _gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
+
+
+def submesh_parent_entities(entity_map: typing.Any, num_cells: int) -> npt.NDArray[np.int32]:
+    """Parent-mesh entity of each of the first ``num_cells`` submesh cells.
+
+    Args:
+        entity_map: Second value returned by :func:`dolfinx.mesh.create_submesh`
+            (an array up to 0.9, an ``EntityMap`` from 0.10).
+        num_cells: Number of submesh cells (owned and ghost) to map.
+    """
+    if isinstance(entity_map, np.ndarray):
+        return entity_map[:num_cells].astype(np.int32)
+    cells = np.arange(num_cells, dtype=np.int32)
+    return np.asarray(entity_map.sub_topology_to_topology(cells, inverse=False), dtype=np.int32)
+
+
+def blocked_sub_element(element: typing.Any) -> typing.Any:
+    """Scalar Basix-UFL element of a (possibly blocked) Basix-UFL element."""
+    if getattr(element, "block_size", 1) > 1 or hasattr(element, "sub_element"):
+        sub = getattr(element, "sub_element", None)
+        if sub is None:
+            sub = element.sub_elements[0]
+        return sub
+    return element

@@ -1,0 +1,210 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""The contact patch test of section 3.2 (Figs. 4 and 6).
+
+A lower block rests on rollers (:math:`u_y = 0` at :math:`y = 0`), both blocks are
+held by rollers on :math:`x = 0` (:math:`u_x = 0`), and a uniform pressure :math:`p`
+acts on the top of the upper block. The exact solution is a uniform stress
+:math:`\\sigma_x = \\sigma_{xy} = 0`, :math:`\\sigma_y = -p` in both bodies and a
+constant contact pressure :math:`\\lambda = p`, whatever the materials; the
+displacements are linear. A discretization passes when it reproduces these.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+from mpi4py import MPI
+
+import dolfinx
+import numpy as np
+import numpy.typing as npt
+import ufl
+
+from dolfinx_contact_s2s.coupling import ContactPair, contact_pair
+from dolfinx_contact_s2s.elasticity import Material, stress_function
+from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, TOP, Body, PatchTestScene, patch_test
+from dolfinx_contact_s2s.surface import contact_surface
+
+__all__ = [
+    "MATERIALS",
+    "PatchTestCase",
+    "PatchTestSolution",
+    "exact_displacement",
+    "solve_patch_test",
+]
+
+#: Materials of the lower and upper block; they differ on purpose.
+MATERIALS = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=3.0, nu=0.2)}
+
+
+@dataclass(frozen=True)
+class PatchTestCase:
+    """One configuration of the patch test.
+
+    Attributes:
+        degrees: Displacement degree of the lower and the upper body.
+        elements: Elements along the contact line on the lower and the upper body.
+        cell: ``"triangle"`` or ``"quadrilateral"``.
+        contactor: ``"upper"`` or ``"lower"``: the body carrying the multiplier.
+        geometry_degree: Degree of the cells' geometry.
+        gap: Initial gap :math:`g_0`.
+        pressure: Applied pressure :math:`p`.
+    """
+
+    degrees: tuple[int, int] = (1, 1)
+    elements: tuple[int, int] = (10, 7)
+    cell: str = "triangle"
+    contactor: str = "upper"
+    geometry_degree: int = 1
+    gap: float = 0.0
+    pressure: float = 1.0
+
+    @property
+    def method(self) -> str:
+        """Discretization name."""
+        return "segment-to-segment"
+
+    @property
+    def multiplier(self) -> str:
+        """Multiplier space in the notation of Eq. (16)."""
+        k = self.degrees[0] if self.contactor == "lower" else self.degrees[1]
+        return f"M^1_{{h,{k}}}"
+
+    def record(self) -> dict:
+        """The case as a JSON-ready dictionary."""
+        out = asdict(self)
+        out["method"] = self.method
+        out["multiplier"] = self.multiplier
+        return out
+
+
+@dataclass
+class PatchTestSolution:
+    """Solution of a patch test case.
+
+    Attributes:
+        case: The configuration.
+        scene: Meshes and tags.
+        pair: The contact pair.
+        displacement: Displacement of each body.
+        stress: Stress of each body (discontinuous Lagrange tensor).
+        pressure: Contact pressure on the contactor facets.
+    """
+
+    case: PatchTestCase
+    scene: PatchTestScene
+    pair: ContactPair
+    displacement: dict[str, dolfinx.fem.Function]
+    stress: dict[str, dolfinx.fem.Function]
+    pressure: dolfinx.fem.Function
+
+
+def _body_forms(
+    body: Body, degree: int, material: Material, traction: float
+) -> tuple[dolfinx.fem.FunctionSpace, ufl.Form, ufl.Form, list[dolfinx.fem.DirichletBC]]:
+    mesh = body.mesh
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (mesh.geometry.dim,)))
+    a, _, v = material.forms(V)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=body.facet_tags)
+    t = dolfinx.fem.Constant(mesh, np.array([0.0, -traction], dtype=dolfinx.default_scalar_type))
+    L = ufl.inner(t, v) * ds(TOP)
+    fdim = mesh.topology.dim - 1
+    zero = dolfinx.default_scalar_type(0.0)
+    bcs = [
+        dolfinx.fem.dirichletbc(
+            zero,
+            dolfinx.fem.locate_dofs_topological(V.sub(0), fdim, body.facet_tags.find(LEFT)),
+            V.sub(0),
+        )
+    ]
+    if body.name == "lower":
+        bcs.append(
+            dolfinx.fem.dirichletbc(
+                zero,
+                dolfinx.fem.locate_dofs_topological(V.sub(1), fdim, body.facet_tags.find(BOTTOM)),
+                V.sub(1),
+            )
+        )
+    return V, a, L, bcs
+
+
+def exact_displacement(case: PatchTestCase, height: float, body: str):
+    """Exact displacement of ``body`` (plane strain), as a callable for interpolation."""
+    p, g0 = case.pressure, case.gap
+
+    def strains(m: Material) -> tuple[float, float]:
+        mu, lmbda = m.lame
+        # Uniaxial sigma_y = -p, sigma_x = 0 in the 2D model.
+        eyy = -p * (lmbda + 2 * mu) / (4 * mu * (lmbda + mu))
+        exx = p * lmbda / (4 * mu * (lmbda + mu))
+        return exx, eyy
+
+    exx_l, eyy_l = strains(MATERIALS["lower"])
+    exx, eyy = strains(MATERIALS[body])
+
+    def u(x: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
+        if body == "lower":
+            return np.vstack([exx * x[0], eyy * x[1]])
+        return np.vstack([exx * x[0], eyy_l * height - g0 + eyy * (x[1] - height - g0)])
+
+    return u
+
+
+def solve_patch_test(
+    comm: MPI.Comm,
+    case: PatchTestCase,
+    *,
+    petsc_options_prefix: str = "patch_",
+    petsc_options: dict | None = None,
+) -> PatchTestSolution:
+    """Build the scene of ``case`` and solve the contact problem (Eq. 18)."""
+    from dolfinx_contact_s2s.petsc import ContactProblem
+
+    if case.contactor not in ("upper", "lower"):
+        raise ValueError("contactor must be 'upper' or 'lower'")
+    scene = patch_test(
+        comm, case.elements, cell=case.cell, geometry_degree=case.geometry_degree, gap=case.gap
+    )
+    names = ("lower", "upper")
+    spaces, a, L, bcs = {}, [], [], []
+    for name, degree in zip(names, case.degrees, strict=True):
+        body = scene.bodies[name]
+        traction = case.pressure if name == "upper" else 0.0
+        V, ai, Li, bci = _body_forms(body, degree, MATERIALS[name], traction)
+        spaces[name] = V
+        a.append(ai)
+        L.append(Li)
+        bcs.extend(bci)
+    target = "lower" if case.contactor == "upper" else "upper"
+    surfaces = {
+        n: contact_surface(spaces[n], scene.bodies[n].facet_tags, scene.bodies[n].contact)
+        for n in names
+    }
+    pair = contact_pair(surfaces[case.contactor], surfaces[target])
+    problem = ContactProblem(
+        a, L, [pair], bcs, petsc_options_prefix=petsc_options_prefix, petsc_options=petsc_options
+    )
+    u, lam = problem.solve()
+    problem.destroy()
+    displacement = dict(zip(names, u, strict=True))
+    for name, f in displacement.items():
+        f.name = f"u_{name}"
+    stress = {n: stress_function(displacement[n], MATERIALS[n]) for n in names}
+    lam[0].name = "contact_pressure"
+    return PatchTestSolution(case, scene, pair, displacement, stress, lam[0])
+
+
+def errors(solution: PatchTestSolution) -> tuple[float, float]:
+    """``(max |λ - p| / p, max |σ - σ_exact| / p)`` over all processes."""
+    p = solution.case.pressure
+    lam = solution.pressure
+    n = lam.function_space.dofmap.index_map.size_local
+    e_p = float(np.max(np.abs(lam.x.array[:n] - p), initial=0.0)) / p
+    exact = np.array([0.0, 0.0, 0.0, -p])
+    e_s = 0.0
+    for s in solution.stress.values():
+        values = s.x.array.reshape(-1, 4)
+        e_s = max(e_s, float(np.max(np.abs(values - exact), initial=0.0)) / p)
+    comm = lam.function_space.mesh.comm
+    return comm.allreduce(e_p, op=MPI.MAX), comm.allreduce(e_s, op=MPI.MAX)

@@ -1,0 +1,186 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Two-body geometries (scenes) generated with Gmsh.
+
+Gmsh builds every body on one rank; DOLFINx's Gmsh reader distributes it. Each
+body is a mesh of its own, so bodies may carry different element types, degrees,
+materials and partitions; the contact coupling only ever touches their surfaces.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import typing
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from mpi4py import MPI
+
+import dolfinx
+
+from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
+
+__all__ = ["Body", "PatchTestScene", "patch_test"]
+
+#: Facet tags of a rectangular block.
+BOTTOM, RIGHT, TOP, LEFT = 1, 2, 3, 4
+
+
+@dataclass
+class Body:
+    """A body of a scene: its mesh and markers.
+
+    Attributes:
+        name: Name of the body.
+        mesh: The body's mesh.
+        cell_tags: Cell markers (the body's cells carry tag 1).
+        facet_tags: Boundary facet markers.
+        tags: Names of the facet markers, e.g. ``{"bottom": 1, ...}``.
+        contact: Tag of the body's contact surface.
+    """
+
+    name: str
+    mesh: dolfinx.mesh.Mesh
+    cell_tags: dolfinx.mesh.MeshTags
+    facet_tags: dolfinx.mesh.MeshTags
+    tags: dict[str, int] = field(default_factory=dict)
+    contact: int = 0
+
+
+@dataclass
+class PatchTestScene:
+    """The contact patch test of Figs. 4 and 6: a lower and an upper block on :math:`y = H`.
+
+    Attributes:
+        lower: Block :math:`[0, W] \\times [0, H]`, contact surface on top.
+        upper: Block :math:`[0, W] \\times [H + g_0, 2H + g_0]`, contact surface below.
+        width: :math:`W`.
+        height: :math:`H`.
+        gap: Initial gap :math:`g_0` (negative: overlap).
+    """
+
+    lower: Body
+    upper: Body
+    width: float
+    height: float
+    gap: float
+
+    @property
+    def bodies(self) -> dict[str, Body]:
+        """The bodies by name."""
+        return {"lower": self.lower, "upper": self.upper}
+
+
+@contextlib.contextmanager
+def _gmsh_session() -> Iterator[typing.Any]:
+    import gmsh
+
+    started = not gmsh.isInitialized()
+    if started:
+        gmsh.initialize(interruptible=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        yield gmsh
+    finally:
+        if started:
+            gmsh.finalize()
+
+
+def _block(
+    gmsh: typing.Any,
+    comm: MPI.Comm,
+    name: str,
+    origin: tuple[float, float],
+    size: tuple[float, float],
+    divisions: tuple[int, int],
+    cell: str,
+    degree: int,
+    msh_dir: Path | None,
+) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
+    """Mesh the rectangle ``origin + [0, w] x [0, h]`` with ``divisions`` along x and y."""
+    gmsh.model.add(name)
+    if comm.rank == 0:
+        (x0, y0), (w, h), (nx, ny) = origin, size, divisions
+        geo = gmsh.model.geo
+        lc = w / nx
+        p = [
+            geo.addPoint(x0, y0, 0, lc),
+            geo.addPoint(x0 + w, y0, 0, lc),
+            geo.addPoint(x0 + w, y0 + h, 0, lc),
+            geo.addPoint(x0, y0 + h, 0, lc),
+        ]
+        lines = [geo.addLine(p[k], p[(k + 1) % 4]) for k in range(4)]  # bottom, right, top, left
+        surface = geo.addPlaneSurface([geo.addCurveLoop(lines)])
+        geo.synchronize()
+        for line, n in zip(lines, (nx, ny, nx, ny), strict=True):
+            gmsh.model.mesh.setTransfiniteCurve(line, n + 1)
+        if cell == "quadrilateral":
+            gmsh.model.mesh.setTransfiniteSurface(surface)
+            gmsh.model.mesh.setRecombine(2, surface)
+        gmsh.model.addPhysicalGroup(2, [surface], 1, name=name)
+        for line, tag, label in zip(lines, (BOTTOM, RIGHT, TOP, LEFT),
+                                    ("bottom", "right", "top", "left"), strict=True):
+            gmsh.model.addPhysicalGroup(1, [line], tag, name=label)
+        gmsh.model.mesh.generate(2)
+        gmsh.model.mesh.setOrder(degree)
+        if msh_dir is not None:
+            msh_dir.mkdir(parents=True, exist_ok=True)
+            gmsh.write(str(msh_dir / f"{name}.msh"))
+    mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    gmsh.model.remove()
+    mesh.name = name
+    return mesh, cell_tags, facet_tags
+
+
+def patch_test(
+    comm: MPI.Comm,
+    elements: tuple[int, int] = (10, 7),
+    *,
+    cell: str = "triangle",
+    geometry_degree: int = 1,
+    gap: float = 0.0,
+    width: float = 1.0,
+    height: float = 0.5,
+    layers: tuple[int, int] | None = None,
+    msh_dir: str | Path | None = None,
+) -> PatchTestScene:
+    """Two blocks pressed together along :math:`y = H` (Figs. 4 and 6 of the paper).
+
+    Args:
+        comm: Communicator the meshes are distributed over.
+        elements: Number of elements along the contact line of the lower and the
+            upper block; different numbers give non-matching meshes.
+        cell: ``"triangle"`` (unstructured inside) or ``"quadrilateral"`` (structured).
+        geometry_degree: 1 or 2 (straight-sided quadratic cells).
+        gap: Initial gap :math:`g_0` between the blocks; negative for an overlap.
+        width: Width :math:`W` of both blocks.
+        height: Height :math:`H` of each block.
+        layers: Number of elements across each block's height; by default about
+            as many as keep the cells square.
+        msh_dir: If given, rank 0 writes the Gmsh models there as ``lower.msh``
+            and ``upper.msh``.
+
+    Returns:
+        The scene. Facet tags: bottom 1, right 2, top 3, left 4.
+    """
+    if cell not in ("triangle", "quadrilateral"):
+        raise ValueError(f"cell must be 'triangle' or 'quadrilateral', not {cell!r}")
+    if geometry_degree not in (1, 2):
+        raise ValueError("geometry_degree must be 1 or 2")
+    if min(elements) < 1:
+        raise ValueError("each block needs at least one element along the contact line")
+    if layers is None:
+        layers = tuple(max(2, round(n * height / width)) for n in elements)  # type: ignore[assignment]
+    tags = {"bottom": BOTTOM, "right": RIGHT, "top": TOP, "left": LEFT}
+    out = Path(msh_dir) if msh_dir is not None else None
+    with _gmsh_session() as gmsh:
+        lower = _block(gmsh, comm, "lower", (0.0, 0.0), (width, height),
+                       (elements[0], layers[0]), cell, geometry_degree, out)
+        upper = _block(gmsh, comm, "upper", (0.0, height + gap), (width, height),
+                       (elements[1], layers[1]), cell, geometry_degree, out)
+    return PatchTestScene(
+        Body("lower", *lower, tags=dict(tags), contact=TOP),
+        Body("upper", *upper, tags=dict(tags), contact=BOTTOM),
+        width, height, gap,
+    )
