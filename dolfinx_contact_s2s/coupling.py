@@ -35,7 +35,7 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s import kernels
 from dolfinx_contact_s2s._compat import submesh_parent_entities
-from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
 
 __all__ = ["ContactPair", "CouplingBlocks", "SubSegments", "box_pairs", "contact_pair"]
 
@@ -279,12 +279,13 @@ class ContactPair:
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
         s_sub = np.where(self._flip[rows_c], 1.0 - xi, xi)
-        mu = self.multiplier_element.tabulate(0, s_sub[:, None])[0]
+        mu = tabulate(self.multiplier_element, 0, s_sub[:, None])[0]
         gdim = normals.shape[1]
+        phi_c, phi_t = cs.basis(X_c), ts.basis(X_t)
         b_c, b_t, g = kernels.segment_to_segment(
-            mu.reshape(S, nq, -1),
-            cs.basis(X_c).reshape(S, nq, -1),
-            ts.basis(X_t).reshape(S, nq, -1),
+            mu.reshape(S, nq, mu.shape[1]),
+            phi_c.reshape(S, nq, phi_c.shape[1]),
+            phi_t.reshape(S, nq, phi_t.shape[1]),
             normals.reshape(S, nq, gdim),
             weights.reshape(S, nq),
             gaps.reshape(S, nq),

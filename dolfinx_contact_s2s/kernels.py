@@ -48,8 +48,9 @@ def segment_to_segment(
         interleaved layout of DOLFINx vector spaces.
     """
     S, _, nk = mu.shape
+    gdim = normals.shape[2]
     wmu = mu * weights[:, :, None]
-    b_c = np.einsum("sqk,sqj,sqc->skjc", wmu, phi_c, normals).reshape(S, nk, -1)
-    b_t = -np.einsum("sqk,sqj,sqc->skjc", wmu, phi_t, normals).reshape(S, nk, -1)
+    b_c = np.einsum("sqk,sqj,sqc->skjc", wmu, phi_c, normals).reshape(S, nk, phi_c.shape[2] * gdim)
+    b_t = -np.einsum("sqk,sqj,sqc->skjc", wmu, phi_t, normals).reshape(S, nk, phi_t.shape[2] * gdim)
     g = np.einsum("sqk,sq->sk", wmu, gaps)
     return b_c, b_t, g

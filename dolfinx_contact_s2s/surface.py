@@ -28,7 +28,21 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s._compat import blocked_sub_element
 
-__all__ = ["ContactSurface", "SurfaceData", "contact_surface"]
+__all__ = ["ContactSurface", "SurfaceData", "contact_surface", "tabulate"]
+
+
+def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
+    """Tabulate a scalar Basix-UFL element, also at zero points.
+
+    Returns:
+        Array ``(num_derivatives, num_points, num_dofs)``.
+    """
+    X = np.ascontiguousarray(X, dtype=np.float64)
+    if X.shape[0] == 0:
+        tdim = X.shape[1]
+        count = (derivatives + 1) if tdim == 1 else (derivatives + 1) * (derivatives + 2) // 2
+        return np.zeros((count, 0, element.dim))
+    return element.tabulate(derivatives, X)
 
 
 @dataclass(frozen=True)
@@ -180,7 +194,7 @@ class ContactSurface:
         X = self.reference_points(data, rows, xi)
         lf = data.local_facet[rows]
         d = self._ref_b[lf] - self._ref_a[lf]
-        tab = self.cmap.tabulate(derivatives, X)[..., None]
+        tab = tabulate(self.cmap, derivatives, X)[..., None]
         coords = data.coords[rows]
         phi = tab[0, :, :, 0]
         x = np.einsum("pk,pkg->pg", phi, coords)
@@ -202,14 +216,14 @@ class ContactSurface:
         self, data: SurfaceData, rows: npt.NDArray[np.int32], X: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
         """Unit outward normals :math:`J^{-T} \\hat n / |J^{-T} \\hat n|` at reference points."""
-        tab = self.cmap.tabulate(1, X)[..., None]
+        tab = tabulate(self.cmap, 1, X)[..., None]
         J = np.einsum("pkg,dpk->pgd", data.coords[rows], tab[1:3, :, :, 0])
         n = np.linalg.solve(np.swapaxes(J, 1, 2), self._ref_normals[data.local_facet[rows], :, None])[:, :, 0]
         return n / np.linalg.norm(n, axis=1)[:, None]
 
     def basis(self, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
         """Scalar displacement basis functions at reference points, shape ``(n, num_dofs)``."""
-        return self.element.tabulate(0, X)[0]
+        return tabulate(self.element, 0, X)[0]
 
     def project(
         self,

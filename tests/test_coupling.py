@@ -15,6 +15,10 @@ from dolfinx_contact_s2s.coupling import box_pairs
 from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
 from dolfinx_contact_s2s.scenes import patch_test
 
+# Gmsh places transfinite nodes within a few 1e-12 of i/n: "matching" meshes match
+# to that, and so do quantities that depend on where the other surface's nodes are.
+GEOMETRY_NOISE = 1e-10
+
 
 def _dof_coordinates(V):
     """Coordinates of every global dof of a scalar space, on every rank."""
@@ -43,10 +47,10 @@ def _ufl_trace_block(V, facet_tags, tag, degree, sign):
 
 
 def _rows_by_coordinates(x_from, x_to):
-    """Index in x_to of each point of x_from (they must coincide)."""
+    """Index in x_to of each point of x_from (they coincide up to Gmsh's ~1e-12 node noise)."""
     d = np.linalg.norm(x_from[:, None, :] - x_to[None, :, :], axis=2)
     idx = np.argmin(d, axis=1)
-    assert np.max(d[np.arange(idx.size), idx]) < 1e-12
+    assert np.max(d[np.arange(idx.size), idx]) < GEOMETRY_NOISE
     return idx
 
 
@@ -93,7 +97,8 @@ def test_coupling_matches_ufl(elements, degree, cell, matching, contactor):
         ref_t, xw_t = _ufl_trace_block(
             spaces[target], bodies[target].facet_tags, bodies[target].contact, degree, -1.0
         )
-        assert np.max(np.abs(Bt - ref_t[_rows_by_coordinates(xq, xw_t)])) < 100 * eps * scale
+        mapped = ref_t[_rows_by_coordinates(xq, xw_t)]
+        assert np.max(np.abs(Bt - mapped)) < GEOMETRY_NOISE * scale
     else:
         # Constant pressure transmission (Eq. 36): a rigid vertical motion of both bodies
         # leaves the gap unchanged, so B_C e_y + B_T e_y = 0 row by row.
@@ -136,7 +141,7 @@ def test_sub_segments_are_the_merged_nodes():
         ends = np.unique(np.round(np.concatenate([x_lo[:, 0], x_hi[:, 0]]), 12))
         nodes = np.unique(np.round(np.concatenate(
             [np.linspace(0, 1, elements[0] + 1), np.linspace(0, 1, elements[1] + 1)]), 12))
-        np.testing.assert_allclose(ends, nodes, atol=1e-12)
+        np.testing.assert_allclose(ends, nodes, atol=GEOMETRY_NOISE)
         # Sub-segments tile the contact line exactly once.
         assert np.isclose(np.sum(x_hi[:, 0] - x_lo[:, 0]), 1.0, atol=1e-12)
 
