@@ -14,6 +14,7 @@ import dolfinx
 __all__ = [
     "DOLFINX_VERSION",
     "blocked_sub_element",
+    "geometry_dofmap",
     "gmsh_model_to_mesh",
     "submesh_parent_entities",
 ]
@@ -62,3 +63,11 @@ def blocked_sub_element(element: typing.Any) -> typing.Any:
             sub = element.sub_elements[0]
         return sub
     return element
+
+
+def geometry_dofmap(mesh: typing.Any) -> npt.NDArray[np.int32]:
+    """Geometry dofmap of a mesh with one coordinate element (``dofmaps[0]`` from 0.10)."""
+    dofmaps = getattr(mesh.geometry, "dofmaps", None)
+    if isinstance(dofmaps, list):
+        return dofmaps[0]
+    return mesh.geometry.dofmap

@@ -34,7 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s import kernels
-from dolfinx_contact_s2s._compat import submesh_parent_entities
+from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
 
 __all__ = ["ContactPair", "CouplingBlocks", "SubSegments", "box_pairs", "contact_pair"]
@@ -194,7 +194,7 @@ class ContactPair:
         data = self.contactor.data
         rows = np.arange(len(data), dtype=np.int32)
         _, x0, _ = self.contactor.evaluate(data, rows, np.zeros(rows.size))
-        sub_x = submesh.geometry.x[submesh.geometry.dofmap[self._sub_cells, 0], : x0.shape[1]]
+        sub_x = submesh.geometry.x[geometry_dofmap(submesh)[self._sub_cells, 0], : x0.shape[1]]
         self._flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (
             1.0 + np.linalg.norm(x0, axis=1)
         )

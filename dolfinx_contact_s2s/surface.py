@@ -26,7 +26,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s._compat import blocked_sub_element
+from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "tabulate"]
 
@@ -122,14 +122,14 @@ class ContactSurface:
             local_facet[i] = np.flatnonzero(c_to_f.links(linked[0]) == f)[0]
 
         gdim = mesh.geometry.dim
-        x_dofs = mesh.geometry.dofmap[cells]
+        x_dofs = geometry_dofmap(mesh)[cells]
         coords = mesh.geometry.x[x_dofs][:, :, :gdim]
 
         bs = V.dofmap.index_map_bs
         blocks = V.dofmap.list[cells]
         global_blocks = V.dofmap.index_map.local_to_global(blocks.reshape(-1)).reshape(blocks.shape)
         dofs = (global_blocks[:, :, None] * bs + np.arange(bs)[None, None, :]).reshape(
-            cells.size, -1
+            cells.size, blocks.shape[1] * bs
         )
 
         self.V = V
@@ -285,7 +285,7 @@ class ContactSurface:
         rows = np.repeat(np.arange(n, dtype=np.int32), samples)
         xi = np.tile(np.linspace(0.0, 1.0, samples), n)
         _, x, _ = self.evaluate(data, rows, xi)
-        x = x.reshape(n, samples, -1)
+        x = x.reshape(n, samples, x.shape[1])
         lo, hi = x.min(axis=1), x.max(axis=1)
         pad = 0.25 * np.linalg.norm(hi - lo, axis=1)[:, None]
         return np.stack([lo - pad, hi + pad], axis=1)
