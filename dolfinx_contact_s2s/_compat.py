@@ -6,10 +6,9 @@ from __future__ import annotations
 
 import typing
 
+import dolfinx
 import numpy as np
 import numpy.typing as npt
-
-import dolfinx
 
 __all__ = [
     "DOLFINX_VERSION",

@@ -1,11 +1,11 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Segment-to-segment coupling with composite quadrature (El-Abbasi & Bathe 2001, section 5).
+r"""Segment-to-segment coupling with composite quadrature (El-Abbasi & Bathe 2001, section 5).
 
 The contact integral of Eq. (17),
 
-.. math:: b(\\mathbf v_h, \\mu_h) = \\int_{\\Gamma_C} \\mu_h\\,
-    [(\\mathbf v_C - \\mathbf v_T^*) \\cdot \\mathbf N + g_0]\\, d\\Gamma_C,
+.. math:: b(\mathbf v_h, \mu_h) = \int_{\Gamma_C} \mu_h\,
+    [(\mathbf v_C - \mathbf v_T^*) \cdot \mathbf N + g_0]\, d\Gamma_C,
 
 is evaluated as in Eqs. (40)-(42): the contactor and target are both surfaces; the
 contactor facets are cut into *sub-segments* at the projections of the target's
@@ -14,7 +14,7 @@ rule. On each sub-segment both the contactor and the target displacements are
 smooth, so the rule integrates Eq. (17) exactly for straight facets and polynomial
 fields: this is what passes the contact patch test (section 3.2). The multiplier
 lives in a DOLFINx function space on the contactor facets (Eq. 16, by default
-:math:`\\mathcal M^1_{h,k}`, continuous and of the displacement degree :math:`k`),
+:math:`\mathcal M^1_{h,k}`, continuous and of the displacement degree :math:`k`),
 so its number of unknowns does not depend on the number of integration points.
 
 The work is split into array stages (candidate search, sub-segments, points,
@@ -63,15 +63,15 @@ class SubSegments:
 
 @dataclass(frozen=True)
 class CouplingBlocks:
-    """Local blocks of :math:`B` and :math:`G` with global indices, one row per sub-segment.
+    r"""Local blocks of :math:`B` and :math:`G` with global indices, one row per sub-segment.
 
     Attributes:
         rows: Global multiplier dofs, shape ``(S, nk)``.
         cols_contactor: Global contactor displacement dofs, shape ``(S, nc)``.
         cols_target: Global target displacement dofs, shape ``(S, nt)``.
-        contactor: Blocks :math:`\\int \\mu \\, \\mathbf v_C \\cdot \\mathbf N`, ``(S, nk, nc)``.
-        target: Blocks :math:`-\\int \\mu \\, \\mathbf v_T^* \\cdot \\mathbf N`, ``(S, nk, nt)``.
-        gap: Blocks :math:`\\int \\mu \\, g_0`, ``(S, nk)``.
+        contactor: Blocks :math:`\int \mu \, \mathbf v_C \cdot \mathbf N`, ``(S, nk, nc)``.
+        target: Blocks :math:`-\int \mu \, \mathbf v_T^* \cdot \mathbf N`, ``(S, nk, nt)``.
+        gap: Blocks :math:`\int \mu \, g_0`, ``(S, nk)``.
     """
 
     rows: npt.NDArray[np.int64]
@@ -128,12 +128,12 @@ class ContactPair:
         quadrature_degree: int | None = None,
         search_radius: float | None = None,
     ):
-        """Define the pair and its multiplier space.
+        r"""Define the pair and its multiplier space.
 
         Args:
-            contactor: Surface :math:`\\Gamma_C` carrying the multiplier.
-            target: Surface :math:`\\Gamma_T`.
-            multiplier_degree: Degree :math:`s` of :math:`\\mathcal M^1_{h,s}` (Eq. 16);
+            contactor: Surface :math:`\Gamma_C` carrying the multiplier.
+            target: Surface :math:`\Gamma_T`.
+            multiplier_degree: Degree :math:`s` of :math:`\mathcal M^1_{h,s}` (Eq. 16);
                 defaults to the contactor's displacement degree.
             quadrature_degree: Degree that the Gauss rule on each sub-segment integrates
                 exactly; defaults to the multiplier degree plus the larger displacement
@@ -177,9 +177,10 @@ class ContactPair:
         submesh, entity_map, _, _ = dolfinx.mesh.create_submesh(
             mesh, fdim, self.contactor.tagged_facets
         )
-        num_sub = submesh.topology.index_map(fdim).size_local + submesh.topology.index_map(
-            fdim
-        ).num_ghosts
+        num_sub = (
+            submesh.topology.index_map(fdim).size_local
+            + submesh.topology.index_map(fdim).num_ghosts
+        )
         parent = submesh_parent_entities(entity_map, num_sub)
         parent_to_sub = np.full(num_facets, -1, dtype=np.int32)
         parent_to_sub[parent] = np.arange(num_sub, dtype=np.int32)
@@ -195,9 +196,7 @@ class ContactPair:
         rows = np.arange(len(data), dtype=np.int32)
         _, x0, _ = self.contactor.evaluate(data, rows, np.zeros(rows.size))
         sub_x = submesh.geometry.x[geometry_dofmap(submesh)[self._sub_cells, 0], : x0.shape[1]]
-        self._flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (
-            1.0 + np.linalg.norm(x0, axis=1)
-        )
+        self._flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (1.0 + np.linalg.norm(x0, axis=1))
 
     @property
     def search_radius(self) -> float:

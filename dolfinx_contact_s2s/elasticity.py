@@ -13,7 +13,7 @@ __all__ = ["Material", "epsilon", "stress_function"]
 
 
 def epsilon(u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
-    """Small strain :math:`\\varepsilon(u) = (\\nabla u + \\nabla u^T)/2`."""
+    r"""Small strain :math:`\varepsilon(u) = (\nabla u + \nabla u^T)/2`."""
     return ufl.sym(ufl.grad(u))
 
 
@@ -40,7 +40,7 @@ class Material:
 
     @property
     def lame(self) -> tuple[float, float]:
-        """Lamé parameters :math:`(\\mu, \\lambda)` of the 2D model."""
+        r"""Lamé parameters :math:`(\mu, \lambda)` of the 2D model."""
         mu = self.E / (2 * (1 + self.nu))
         lmbda = self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
         if self.plane == "stress":
@@ -48,15 +48,13 @@ class Material:
         return mu, lmbda
 
     def sigma(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
-        """Cauchy stress :math:`2\\mu\\varepsilon + \\lambda\\,\\mathrm{tr}\\,\\varepsilon\\, I`."""
+        r"""Cauchy stress :math:`2\mu\varepsilon + \lambda\,\mathrm{tr}\,\varepsilon\, I`."""
         mu, lmbda = self.lame
         eps = epsilon(u)
         return 2 * mu * eps + lmbda * ufl.tr(eps) * ufl.Identity(len(u))
 
-    def forms(
-        self, V: dolfinx.fem.FunctionSpace
-    ) -> tuple[ufl.Form, ufl.Argument, ufl.Argument]:
-        """Stiffness form :math:`a(u, v) = \\int \\sigma(u) : \\varepsilon(v)` and its arguments."""
+    def forms(self, V: dolfinx.fem.FunctionSpace) -> tuple[ufl.Form, ufl.Argument, ufl.Argument]:
+        r"""Stiffness form :math:`a(u, v) = \int \sigma(u) : \varepsilon(v)` and its arguments."""
         u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         return ufl.inner(self.sigma(u), epsilon(v)) * ufl.dx, u, v
 

@@ -22,7 +22,7 @@ def segment_to_segment(
     weights: npt.NDArray[np.floating],
     gaps: npt.NDArray[np.floating],
 ) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating], npt.NDArray[np.floating]]:
-    """Local coupling blocks of Eqs. (40)-(42) on a batch of sub-segments.
+    r"""Local coupling blocks of Eqs. (40)-(42) on a batch of sub-segments.
 
     For sub-segment :math:`s` with integration points :math:`i`, multiplier basis
     :math:`H^{ik}_C` (Eq. 42), contactor basis :math:`h^{ij}_C` (Eq. 41), target basis
@@ -30,9 +30,9 @@ def segment_to_segment(
     :math:`N^i` and weight :math:`w^i`:
 
     .. math::
-        B_C[s, k, j c] = \\sum_i w^i H^{ik}_C h^{ij}_C N^i_c, \\quad
-        B_T[s, k, j c] = -\\sum_i w^i H^{ik}_C h^{ij}_T N^i_c, \\quad
-        G[s, k] = \\sum_i w^i H^{ik}_C g_0^{i}.
+        B_C[s, k, j c] = \sum_i w^i H^{ik}_C h^{ij}_C N^i_c, \quad
+        B_T[s, k, j c] = -\sum_i w^i H^{ik}_C h^{ij}_T N^i_c, \quad
+        G[s, k] = \sum_i w^i H^{ik}_C g_0^{i}.
 
     Args:
         mu: Multiplier basis, shape ``(S, Q, nk)``.

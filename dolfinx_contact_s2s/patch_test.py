@@ -1,12 +1,12 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""The contact patch test of section 3.2 (Figs. 4 and 6).
+r"""The contact patch test of section 3.2 (Figs. 4 and 6).
 
 A lower block rests on rollers (:math:`u_y = 0` at :math:`y = 0`), both blocks are
 held by rollers on :math:`x = 0` (:math:`u_x = 0`), and a uniform pressure :math:`p`
 acts on the top of the upper block. The exact solution is a uniform stress
-:math:`\\sigma_x = \\sigma_{xy} = 0`, :math:`\\sigma_y = -p` in both bodies and a
-constant contact pressure :math:`\\lambda = p`, whatever the materials; the
+:math:`\sigma_x = \sigma_{xy} = 0`, :math:`\sigma_y = -p` in both bodies and a
+constant contact pressure :math:`\lambda = p`, whatever the materials; the
 displacements are linear. A discretization passes when it reproduces these.
 """
 
@@ -140,7 +140,7 @@ def exact_displacement(case: PatchTestCase, height: float, body: str):
         exx = p * lmbda / (4 * mu * (lmbda + mu))
         return exx, eyy
 
-    exx_l, eyy_l = strains(MATERIALS["lower"])
+    _, eyy_l = strains(MATERIALS["lower"])
     exx, eyy = strains(MATERIALS[body])
 
     def u(x: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
@@ -196,7 +196,11 @@ def solve_patch_test(
 
 
 def errors(solution: PatchTestSolution) -> tuple[float, float]:
-    """``(max |λ - p| / p, max |σ - σ_exact| / p)`` over all processes."""
+    """Largest pressure and stress errors relative to :math:`p`, over all processes.
+
+    Returns:
+        ``(max |lambda - p| / p, max |sigma - sigma_exact| / p)``.
+    """
     p = solution.case.pressure
     lam = solution.pressure
     n = lam.function_space.dofmap.index_map.size_local

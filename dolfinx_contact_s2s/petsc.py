@@ -87,13 +87,13 @@ def _coo_matrix(
 
 
 def assemble_coupling(pair: ContactPair) -> tuple[PETSc.Mat, PETSc.Mat, PETSc.Vec]:
-    """Assemble the coupling of a contact pair with global indices.
+    r"""Assemble the coupling of a contact pair with global indices.
 
     The rows of every matrix are the multiplier dofs of ``pair.Q``. With
-    :math:`b(\\mathbf v, \\mu)` the linear part of Eq. (17),
+    :math:`b(\mathbf v, \mu)` the linear part of Eq. (17),
 
-    .. math:: b(\\mathbf v, \\mu) = \\mathbf M^T (\\mathbf B_C \\mathbf V_C + \\mathbf B_T
-        \\mathbf V_T), \\qquad \\mathbf G = \\int_{\\Gamma_C} \\mu\\, g_0.
+    .. math:: b(\mathbf v, \mu) = \mathbf M^T (\mathbf B_C \mathbf V_C + \mathbf B_T
+        \mathbf V_T), \qquad \mathbf G = \int_{\Gamma_C} \mu\, g_0.
 
     Args:
         pair: The contact pair.
@@ -114,9 +114,7 @@ def assemble_coupling(pair: ContactPair) -> tuple[PETSc.Mat, PETSc.Mat, PETSc.Ve
     q_map = pair.Q.dofmap.index_map
     spaces = (pair.contactor.V, pair.target.V)
     B = [
-        _coo_matrix(
-            comm, blocks.rows, cols, vals, q_map, V.dofmap.index_map, V.dofmap.index_map_bs
-        )
+        _coo_matrix(comm, blocks.rows, cols, vals, q_map, V.dofmap.index_map, V.dofmap.index_map_bs)
         for V, cols, vals in zip(
             spaces,
             (blocks.cols_contactor, blocks.cols_target),
@@ -145,25 +143,25 @@ def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool
 
 
 class ContactProblem:
-    """Linear elastic bodies tied by Lagrange-multiplier contact on a known contact surface.
+    r"""Linear elastic bodies tied by Lagrange-multiplier contact on a known contact surface.
 
     Assembles and solves Eq. (18) in the form
 
     .. math::
-        \\begin{bmatrix} \\mathbf K & -\\mathbf B^T \\\\ -\\mathbf B & \\mathbf 0 \\end{bmatrix}
-        \\begin{Bmatrix} \\mathbf U \\\\ \\mathbf \\Lambda \\end{Bmatrix} =
-        \\begin{Bmatrix} \\mathbf F \\\\ \\mathbf G \\end{Bmatrix},
+        \begin{bmatrix} \mathbf K & -\mathbf B^T \\ -\mathbf B & \mathbf 0 \end{bmatrix}
+        \begin{Bmatrix} \mathbf U \\ \mathbf \Lambda \end{Bmatrix} =
+        \begin{Bmatrix} \mathbf F \\ \mathbf G \end{Bmatrix},
 
-    which is Eq. (15) with every constraint active: :math:`a(\\mathbf u, \\mathbf v) -
-    b(\\mathbf v, \\lambda) = (\\mathbf f, \\mathbf v)` and a zero gap :math:`b(\\mathbf u,
-    \\mu) + \\int \\mu g_0 = 0`, so that :math:`\\lambda` is the contact pressure,
+    which is Eq. (15) with every constraint active: :math:`a(\mathbf u, \mathbf v) -
+    b(\mathbf v, \lambda) = (\mathbf f, \mathbf v)` and a zero gap :math:`b(\mathbf u,
+    \mu) + \int \mu g_0 = 0`, so that :math:`\lambda` is the contact pressure,
     positive in compression. The matrix is built as a ``MatNest`` (bodies, then pairs)
     and converted to AIJ for a direct solver; :attr:`fields` holds the index sets of
     the blocks for field-split preconditioners.
 
-    Dirichlet conditions are applied to :math:`\\mathbf K` as in
+    Dirichlet conditions are applied to :math:`\mathbf K` as in
     :func:`dolfinx.fem.petsc.assemble_matrix` (unit diagonal); their columns in
-    :math:`\\mathbf B` are removed and their values moved to :math:`\\mathbf G`.
+    :math:`\mathbf B` are removed and their values moved to :math:`\mathbf G`.
     """
 
     def __init__(
@@ -254,8 +252,9 @@ class ContactProblem:
         self.x = self.A.createVecRight()
 
         self.u = [dolfinx.fem.Function(V, name=f"u{i}") for i, V in enumerate(self.spaces)]
-        self.pressure = [dolfinx.fem.Function(p.Q, name=f"pressure{j}") for j, p in
-                         enumerate(self.pairs)]
+        self.pressure = [
+            dolfinx.fem.Function(p.Q, name=f"pressure{j}") for j, p in enumerate(self.pairs)
+        ]
 
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOperators(self.A)
@@ -307,8 +306,17 @@ class ContactProblem:
 
     def destroy(self) -> None:
         """Destroy the PETSc objects held by the problem."""
-        for obj in [self.ksp, self.A, self._nest, self.b, self.x, *self._K, *self._F,
-                    *self._G, *self._B]:
+        for obj in [
+            self.ksp,
+            self.A,
+            self._nest,
+            self.b,
+            self.x,
+            *self._K,
+            *self._F,
+            *self._G,
+            *self._B,
+        ]:
             obj.destroy()
 
 

@@ -50,11 +50,11 @@ class Body:
 
 @dataclass
 class PatchTestScene:
-    """The contact patch test of Figs. 4 and 6: a lower and an upper block on :math:`y = H`.
+    r"""The contact patch test of Figs. 4 and 6: a lower and an upper block on :math:`y = H`.
 
     Attributes:
-        lower: Block :math:`[0, W] \\times [0, H]`, contact surface on top.
-        upper: Block :math:`[0, W] \\times [H + g_0, 2H + g_0]`, contact surface below.
+        lower: Block :math:`[0, W] \times [0, H]`, contact surface on top.
+        upper: Block :math:`[0, W] \times [H + g_0, 2H + g_0]`, contact surface below.
         width: :math:`W`.
         height: :math:`H`.
         gap: Initial gap :math:`g_0` (negative: overlap).
@@ -119,8 +119,9 @@ def _block(
             gmsh.model.mesh.setTransfiniteSurface(surface)
             gmsh.model.mesh.setRecombine(2, surface)
         gmsh.model.addPhysicalGroup(2, [surface], 1, name=name)
-        for line, tag, label in zip(lines, (BOTTOM, RIGHT, TOP, LEFT),
-                                    ("bottom", "right", "top", "left"), strict=True):
+        for line, tag, label in zip(
+            lines, (BOTTOM, RIGHT, TOP, LEFT), ("bottom", "right", "top", "left"), strict=True
+        ):
             gmsh.model.addPhysicalGroup(1, [line], tag, name=label)
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(degree)
@@ -175,12 +176,32 @@ def patch_test(
     tags = {"bottom": BOTTOM, "right": RIGHT, "top": TOP, "left": LEFT}
     out = Path(msh_dir) if msh_dir is not None else None
     with _gmsh_session() as gmsh:
-        lower = _block(gmsh, comm, "lower", (0.0, 0.0), (width, height),
-                       (elements[0], layers[0]), cell, geometry_degree, out)
-        upper = _block(gmsh, comm, "upper", (0.0, height + gap), (width, height),
-                       (elements[1], layers[1]), cell, geometry_degree, out)
+        lower = _block(
+            gmsh,
+            comm,
+            "lower",
+            (0.0, 0.0),
+            (width, height),
+            (elements[0], layers[0]),
+            cell,
+            geometry_degree,
+            out,
+        )
+        upper = _block(
+            gmsh,
+            comm,
+            "upper",
+            (0.0, height + gap),
+            (width, height),
+            (elements[1], layers[1]),
+            cell,
+            geometry_degree,
+            out,
+        )
     return PatchTestScene(
         Body("lower", *lower, tags=dict(tags), contact=TOP),
         Body("upper", *upper, tags=dict(tags), contact=BOTTOM),
-        width, height, gap,
+        width,
+        height,
+        gap,
     )

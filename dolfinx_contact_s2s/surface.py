@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Contact surfaces: tagged boundary facets of a body and their geometry.
+r"""Contact surfaces: tagged boundary facets of a body and their geometry.
 
 A :class:`ContactSurface` holds, for every *owned* facet carrying a tag, the cell it
 belongs to, its local facet number, the cell's geometry nodes and the global
@@ -8,8 +8,8 @@ indices of the displacement degrees of freedom of that cell. It evaluates points
 tangents and outward normals on the facets in batches, which is all the coupling
 assembly of :mod:`dolfinx_contact_s2s.coupling` needs.
 
-Facets are parametrised by :math:`\\xi \\in [0, 1]` along the straight reference
-facet, :math:`X(\\xi) = X_a + \\xi (X_b - X_a)`, where :math:`X_a, X_b` are the
+Facets are parametrised by :math:`\xi \in [0, 1]` along the straight reference
+facet, :math:`X(\xi) = X_a + \xi (X_b - X_a)`, where :math:`X_a, X_b` are the
 reference vertices of the facet in Basix numbering; the physical facet is the
 image of that segment under the cell's coordinate map, so quadratic (curved)
 geometry is handled exactly.
@@ -88,7 +88,9 @@ class ContactSurface:
         tdim = mesh.topology.dim
         fdim = tdim - 1
         if facet_tags.dim != fdim:
-            raise ValueError(f"facet_tags must mark facets (dimension {fdim}), not {facet_tags.dim}")
+            raise ValueError(
+                f"facet_tags must mark facets (dimension {fdim}), not {facet_tags.dim}"
+            )
         cell_name = mesh.topology.cell_name()
         if tdim != 2 or cell_name not in ("triangle", "quadrilateral"):
             raise ValueError(
@@ -167,7 +169,7 @@ class ContactSurface:
     def reference_points(
         self, data: SurfaceData, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
-        """Reference-cell coordinates :math:`X(\\xi)` of points on facets ``rows``."""
+        r"""Reference-cell coordinates :math:`X(\xi)` of points on facets ``rows``."""
         lf = data.local_facet[rows]
         a, b = self._ref_a[lf], self._ref_b[lf]
         return a + xi[:, None] * (b - a)
@@ -179,7 +181,7 @@ class ContactSurface:
         xi: npt.NDArray[np.floating],
         derivatives: int = 1,
     ) -> tuple[npt.NDArray[np.floating], ...]:
-        """Points and derivatives along the facets.
+        r"""Points and derivatives along the facets.
 
         Args:
             data: Facet arrays (local or gathered).
@@ -189,7 +191,7 @@ class ContactSurface:
 
         Returns:
             ``(X, x, dx)`` or ``(X, x, dx, ddx)``: reference points, physical points and
-            their derivatives with respect to :math:`\\xi`, each of shape ``(n, gdim)``.
+            their derivatives with respect to :math:`\xi`, each of shape ``(n, gdim)``.
         """
         X = self.reference_points(data, rows, xi)
         lf = data.local_facet[rows]
@@ -215,10 +217,12 @@ class ContactSurface:
     def outward_normals(
         self, data: SurfaceData, rows: npt.NDArray[np.int32], X: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
-        """Unit outward normals :math:`J^{-T} \\hat n / |J^{-T} \\hat n|` at reference points."""
+        r"""Unit outward normals :math:`J^{-T} \hat n / |J^{-T} \hat n|` at reference points."""
         tab = tabulate(self.cmap, 1, X)[..., None]
         J = np.einsum("pkg,dpk->pgd", data.coords[rows], tab[1:3, :, :, 0])
-        n = np.linalg.solve(np.swapaxes(J, 1, 2), self._ref_normals[data.local_facet[rows], :, None])[:, :, 0]
+        n = np.linalg.solve(
+            np.swapaxes(J, 1, 2), self._ref_normals[data.local_facet[rows], :, None]
+        )[:, :, 0]
         return n / np.linalg.norm(n, axis=1)[:, None]
 
     def basis(self, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
@@ -232,9 +236,9 @@ class ContactSurface:
         points: npt.NDArray[np.floating],
         iterations: int = 8,
     ) -> npt.NDArray[np.floating]:
-        """Closest-point parameters :math:`\\xi` of ``points`` on the (extended) facets.
+        r"""Closest-point parameters :math:`\xi` of ``points`` on the (extended) facets.
 
-        Solves :math:`(x(\\xi) - p) \\cdot x'(\\xi) = 0` by Newton's method: the point of the
+        Solves :math:`(x(\xi) - p) \cdot x'(\xi) = 0` by Newton's method: the point of the
         facet whose normal passes through ``p`` (Fig. 15(b): target nodes projected onto
         the contactor). One step is exact on straight facets.
         """
@@ -258,9 +262,9 @@ class ContactSurface:
         directions: npt.NDArray[np.floating],
         iterations: int = 8,
     ) -> npt.NDArray[np.floating]:
-        """Parameters :math:`\\eta` where the lines ``origins + t * directions`` cross the facets.
+        r"""Parameters :math:`\eta` where the lines ``origins + t * directions`` cross the facets.
 
-        Solves :math:`(x(\\eta) - o) \\times N = 0` by Newton's method: the target point
+        Solves :math:`(x(\eta) - o) \times N = 0` by Newton's method: the target point
         :math:`x_T^{i*}` of a contactor integration point along the normal (Eq. 38, Fig. 7(b)).
         """
         perp = np.stack([-directions[:, 1], directions[:, 0]], axis=1)

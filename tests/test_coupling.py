@@ -114,8 +114,10 @@ def test_gap_vector_is_integral_of_g0(gap, degree):
     """G = int mu g0, and the multiplier basis sums to one: sum(G) = g0 * W (closed form)."""
     comm = MPI.COMM_WORLD
     scene = patch_test(comm, (10, 7), gap=gap)
-    spaces = {n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", degree, (2,)))
-              for n, b in scene.bodies.items()}
+    spaces = {
+        n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", degree, (2,)))
+        for n, b in scene.bodies.items()
+    }
     surf = {n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()}
     B_c, B_t, G = assemble_coupling(contact_pair(surf["upper"], surf["lower"]))
     assert np.isclose(G.sum(), gap * scene.width, rtol=0, atol=1e-14)
@@ -129,18 +131,27 @@ def test_sub_segments_are_the_merged_nodes():
     comm = MPI.COMM_SELF
     for elements in [(10, 7), (7, 10), (3, 8)]:
         scene = patch_test(comm, elements, cell="quadrilateral")
-        spaces = {n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", 1, (2,)))
-                  for n, b in scene.bodies.items()}
-        surf = {n: contact_surface(spaces[n], b.facet_tags, b.contact)
-                for n, b in scene.bodies.items()}
+        spaces = {
+            n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", 1, (2,)))
+            for n, b in scene.bodies.items()
+        }
+        surf = {
+            n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()
+        }
         pair = contact_pair(surf["upper"], surf["lower"])
         seg = pair.sub_segments()
         data = surf["upper"].data
         _, x_lo, _ = surf["upper"].evaluate(data, seg.contactor, seg.lo)
         _, x_hi, _ = surf["upper"].evaluate(data, seg.contactor, seg.hi)
         ends = np.unique(np.round(np.concatenate([x_lo[:, 0], x_hi[:, 0]]), 12))
-        nodes = np.unique(np.round(np.concatenate(
-            [np.linspace(0, 1, elements[0] + 1), np.linspace(0, 1, elements[1] + 1)]), 12))
+        nodes = np.unique(
+            np.round(
+                np.concatenate(
+                    [np.linspace(0, 1, elements[0] + 1), np.linspace(0, 1, elements[1] + 1)]
+                ),
+                12,
+            )
+        )
         np.testing.assert_allclose(ends, nodes, atol=GEOMETRY_NOISE)
         # Sub-segments tile the contact line exactly once.
         assert np.isclose(np.sum(x_hi[:, 0] - x_lo[:, 0]), 1.0, atol=1e-12)
@@ -157,4 +168,6 @@ def test_box_pairs_equals_brute_force():
         overlap = np.all(
             (a[:, None, 0] <= b[None, :, 1]) & (b[None, :, 0] <= a[:, None, 1]), axis=2
         )
-        assert set(zip(ia.tolist(), ib.tolist(), strict=True)) == set(zip(*np.nonzero(overlap)))
+        assert set(zip(ia.tolist(), ib.tolist(), strict=True)) == set(
+            zip(*np.nonzero(overlap), strict=True)
+        )

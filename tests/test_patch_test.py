@@ -68,8 +68,14 @@ def test_s2s_patch_test(degree, cell, elements, contactor):
         PatchTestCase(degrees=(1, 2), elements=(9, 4), cell="quadrilateral", gap=0.005),
         PatchTestCase(pressure=1e3, elements=(13, 6)),
     ],
-    ids=["gap", "overlap-quad-lower", "curved-geometry", "quadratic-on-linear",
-         "linear-on-quadratic-gap", "large-load"],
+    ids=[
+        "gap",
+        "overlap-quad-lower",
+        "curved-geometry",
+        "quadratic-on-linear",
+        "linear-on-quadratic-gap",
+        "large-load",
+    ],
 )
 def test_s2s_patch_test_variants(case):
     sol = solve_patch_test(MPI.COMM_WORLD, case)
@@ -77,4 +83,3 @@ def test_s2s_patch_test_variants(case):
     assert e_lam < TOL
     assert e_sig < TOL
     assert e_u < TOL * case.pressure
-
