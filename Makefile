@@ -30,6 +30,7 @@ check: lint test-serial test-mpi smoke
 lint:
 	@echo "== [$(SUITE)] lint"
 	S2S_SUITE=$(SUITE) $(ENV_RUN) ruff check .
+	S2S_SUITE=$(SUITE) $(ENV_RUN) ruff format --check .
 
 test-serial:
 	@echo "== [$(SUITE)] tests, 1 rank"

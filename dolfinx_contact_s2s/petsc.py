@@ -184,7 +184,9 @@ class ContactProblem:
             pairs: Contact pairs between the bodies' spaces.
             bcs: Dirichlet conditions on any of the bodies.
             petsc_options_prefix: Prefix of the solver's options database entries.
-            petsc_options: Options set under the prefix; the default is MUMPS LU.
+            petsc_options: Options set under the prefix; if not given, MUMPS LU
+                (``ksp_type=preonly``, ``pc_type=lu``, ``pc_factor_mat_solver_type=mumps``).
+                Command-line options under the prefix apply too.
             form_compiler_options: Passed to :func:`dolfinx.fem.form`.
             jit_options: Passed to :func:`dolfinx.fem.form`.
         """
@@ -259,14 +261,22 @@ class ContactProblem:
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOperators(self.A)
         self.ksp.setOptionsPrefix(petsc_options_prefix)
-        options = PETSc.Options()
-        options.prefixPush(petsc_options_prefix)
-        for k, v in {**_DEFAULT_OPTIONS, **(petsc_options or {})}.items():
-            options[k] = v
-        options.prefixPop()
-        self.ksp.setFromOptions()
         self.A.setOptionsPrefix(petsc_options_prefix)
+        # Set the options, apply them, and take them out of the global database again.
+        # Defaults yield to the command line; explicit petsc_options do not.
+        options = PETSc.Options()
+        given = petsc_options if petsc_options is not None else _DEFAULT_OPTIONS
+        added = []
+        for k, v in given.items():
+            name = f"{petsc_options_prefix}{k}"
+            if petsc_options is None and options.hasName(name):
+                continue
+            options[name] = v
+            added.append(name)
+        self.ksp.setFromOptions()
         self.A.setFromOptions()
+        for name in added:
+            options.delValue(name)
 
     def _dirichlet_vectors(self, i: int) -> tuple[PETSc.Vec, PETSc.Vec]:
         """Dirichlet values of body ``i`` and a 0/1 mask of its free dofs (owned layout)."""
