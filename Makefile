@@ -5,7 +5,7 @@ MPIRUN  := mpirun -n 2
 PYTEST  := python3 -m pytest -q -p no:cacheprovider
 SUITE   ?= trixie
 
-.PHONY: demo test check lint test-serial test-mpi smoke env clean
+.PHONY: demo test check lint package test-serial test-mpi smoke env clean
 
 ## demo: the patch-test study on 1 and 2 ranks -> results/report.md, results/*.json, results/*.png
 demo:
@@ -25,12 +25,22 @@ test:
 	    echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
 	fi
 
-check: lint test-serial test-mpi smoke
+check: lint package test-serial test-mpi smoke
 
 lint:
 	@echo "== [$(SUITE)] lint"
 	S2S_SUITE=$(SUITE) $(ENV_RUN) ruff check .
 	S2S_SUITE=$(SUITE) $(ENV_RUN) ruff format --check .
+
+# `pip install .` as the README says, into a venv that sees the system's DOLFINx.
+package:
+	@echo "== [$(SUITE)] pip install ."
+	S2S_SUITE=$(SUITE) $(ENV_RUN) sh -c 'set -e; v=build/venv-$(SUITE); rm -rf $$v; \
+	    python3 -m venv --system-site-packages $$v; \
+	    $$v/bin/pip install -q --no-deps --no-build-isolation --no-index .; \
+	    cd build && PYTHONPATH= venv-$(SUITE)/bin/python -c "import pathlib, dolfinx_contact_s2s as m; \
+	    p = pathlib.Path(m.__file__).parent; assert \"site-packages\" in str(p) and (p / \"py.typed\").exists(), p; \
+	    print(\"installed\", m.__version__, \"at\", p)"'
 
 test-serial:
 	@echo "== [$(SUITE)] tests, 1 rank"
