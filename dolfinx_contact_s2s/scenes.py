@@ -110,8 +110,16 @@ def _block(
             geo.addPoint(x0 + w, y0 + h, 0, lc),
             geo.addPoint(x0, y0 + h, 0, lc),
         ]
-        lines = [geo.addLine(p[k], p[(k + 1) % 4]) for k in range(4)]  # bottom, right, top, left
-        surface = geo.addPlaneSurface([geo.addCurveLoop(lines)])
+        # Horizontal edges both run left to right (and vertical ones upwards), so that
+        # blocks with the same divisions get bit-identical nodes on a shared line.
+        lines = [
+            geo.addLine(p[0], p[1]),  # bottom
+            geo.addLine(p[1], p[2]),  # right
+            geo.addLine(p[3], p[2]),  # top
+            geo.addLine(p[0], p[3]),  # left
+        ]
+        loop = geo.addCurveLoop([lines[0], lines[1], -lines[2], -lines[3]])
+        surface = geo.addPlaneSurface([loop])
         geo.synchronize()
         for line, n in zip(lines, (nx, ny, nx, ny), strict=True):
             gmsh.model.mesh.setTransfiniteCurve(line, n + 1)

@@ -15,8 +15,7 @@ from dolfinx_contact_s2s.coupling import box_pairs
 from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
 from dolfinx_contact_s2s.scenes import patch_test
 
-# Gmsh places transfinite nodes within a few 1e-12 of i/n: "matching" meshes match
-# to that, and so do quantities that depend on where the other surface's nodes are.
+# Gmsh places transfinite nodes within a few 1e-12 of i * W / n, not exactly there.
 GEOMETRY_NOISE = 1e-10
 
 
@@ -47,7 +46,7 @@ def _ufl_trace_block(V, facet_tags, tag, degree, sign):
 
 
 def _rows_by_coordinates(x_from, x_to):
-    """Index in x_to of each point of x_from (they coincide up to Gmsh's ~1e-12 node noise)."""
+    """Index in x_to of each point of x_from (the same points, numbered differently)."""
     d = np.linalg.norm(x_from[:, None, :] - x_to[None, :, :], axis=2)
     idx = np.argmin(d, axis=1)
     assert np.max(d[np.arange(idx.size), idx]) < GEOMETRY_NOISE
@@ -97,8 +96,9 @@ def test_coupling_matches_ufl(elements, degree, cell, matching, contactor):
         ref_t, xw_t = _ufl_trace_block(
             spaces[target], bodies[target].facet_tags, bodies[target].contact, degree, -1.0
         )
+        # The scene gives both blocks bit-identical nodes on a shared line here.
         mapped = ref_t[_rows_by_coordinates(xq, xw_t)]
-        assert np.max(np.abs(Bt - mapped)) < GEOMETRY_NOISE * scale
+        assert np.max(np.abs(Bt - mapped)) < 100 * eps * scale
     else:
         # Constant pressure transmission (Eq. 36): a rigid vertical motion of both bodies
         # leaves the gap unchanged, so B_C e_y + B_T e_y = 0 row by row.
