@@ -196,33 +196,38 @@ class ContactSurface:
         X = self.reference_points(data, rows, xi)
         lf = data.local_facet[rows]
         d = self._ref_b[lf] - self._ref_a[lf]
-        tab = tabulate(self.cmap, derivatives, X)[..., None]
-        coords = data.coords[rows]
-        phi = tab[0, :, :, 0]
-        x = np.einsum("pk,pkg->pg", phi, coords)
-        dphi = tab[1:3, :, :, 0]  # (2, n, nodes)
-        J = np.einsum("pkg,dpk->pgd", coords, dphi)
+        tab, coords, x, J = self._map(data, rows, X, derivatives)
         dx = np.einsum("pgd,pd->pg", J, d)
         if derivatives == 1:
             return X, x, dx
         # Second derivatives along d: phi_xx d0^2 + 2 phi_xy d0 d1 + phi_yy d1^2.
         d2 = (
-            tab[3, :, :, 0] * d[:, 0:1] ** 2
-            + 2 * tab[4, :, :, 0] * (d[:, 0:1] * d[:, 1:2])
-            + tab[5, :, :, 0] * d[:, 1:2] ** 2
+            tab[3] * d[:, 0:1] ** 2 + 2 * tab[4] * (d[:, 0:1] * d[:, 1:2]) + tab[5] * d[:, 1:2] ** 2
         )
         ddx = np.einsum("pk,pkg->pg", d2, coords)
         return X, x, dx, ddx
+
+    def _map(
+        self,
+        data: SurfaceData,
+        rows: npt.NDArray[np.int32],
+        X: npt.NDArray[np.floating],
+        derivatives: int,
+    ) -> tuple[npt.NDArray[np.floating], ...]:
+        """Coordinate-map tables, cell nodes, points and Jacobians at reference points."""
+        tab = tabulate(self.cmap, derivatives, X)
+        coords = data.coords[rows]
+        x = np.einsum("pk,pkg->pg", tab[0], coords)
+        J = np.einsum("pkg,dpk->pgd", coords, tab[1:3])
+        return tab, coords, x, J
 
     def outward_normals(
         self, data: SurfaceData, rows: npt.NDArray[np.int32], X: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
         r"""Unit outward normals :math:`J^{-T} \hat n / |J^{-T} \hat n|` at reference points."""
-        tab = tabulate(self.cmap, 1, X)[..., None]
-        J = np.einsum("pkg,dpk->pgd", data.coords[rows], tab[1:3, :, :, 0])
-        n = np.linalg.solve(
-            np.swapaxes(J, 1, 2), self._ref_normals[data.local_facet[rows], :, None]
-        )[:, :, 0]
+        J = self._map(data, rows, X, 1)[3]
+        n_ref = self._ref_normals[data.local_facet[rows], :, None]
+        n = np.linalg.solve(np.swapaxes(J, 1, 2), n_ref)[:, :, 0]
         return n / np.linalg.norm(n, axis=1)[:, None]
 
     def basis(self, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
