@@ -34,10 +34,21 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s import kernels
+from dolfinx_contact_s2s.quadrature import RULES, interval_rule
 from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
 
-__all__ = ["ContactPair", "CouplingBlocks", "SubSegments", "box_pairs", "contact_pair"]
+__all__ = [
+    "METHODS",
+    "ContactPair",
+    "CouplingBlocks",
+    "SubSegments",
+    "box_pairs",
+    "contact_pair",
+]
+
+#: Contact discretizations (sections 4 and 5).
+METHODS = ("segment-to-segment", "node-to-segment", "node-to-segment-gauss", "node-to-node")
 
 
 @dataclass(frozen=True)
@@ -113,10 +124,24 @@ def box_pairs(
 
 
 class ContactPair:
-    """A contactor surface, a target surface and the multiplier space between them.
+    r"""A contactor surface, a target surface, a discretization and its multiplier space.
 
-    The multiplier space is a Lagrange space of degree ``multiplier_degree`` on a
-    submesh made of the contactor facets only (no multiplier exists elsewhere).
+    The multiplier lives in a space of Eq. (16) on a submesh made of the contactor's
+    tagged facets only. The discretizations (``method``):
+
+    - ``"segment-to-segment"`` (section 5, Eqs. 40-42): the multiplier is interpolated
+      from its own unknowns (Eq. 42) and Eq. (17) is integrated with ``quadrature``:
+      ``"composite-gauss"`` or ``"composite-newton-cotes"`` on the sub-segments bounded
+      by the nodes of both surfaces (Fig. 15(b)-(c), the new algorithm), or
+      ``"gauss"``/``"newton-cotes"`` on the contactor segments only (Fig. 15(a)).
+    - ``"node-to-segment"`` (Eqs. 38-39): one constraint per contactor node, projected
+      along the contactor normal onto the target, with weight :math:`w^i = 1`
+      (``weight="unit"``: the multiplier is a nodal force) or the node's tributary
+      length (``weight="tributary"``: the multiplier is a pressure).
+    - ``"node-to-segment-gauss"``: the same constraint at the Gauss points of the
+      contactor segments, with one multiplier per point [21, 22].
+    - ``"node-to-node"`` (Eq. 37): node-to-segment with unit weights on meshes whose
+      nodes coincide; other meshes raise :class:`ValueError`.
     """
 
     def __init__(
@@ -124,8 +149,11 @@ class ContactPair:
         contactor: ContactSurface,
         target: ContactSurface,
         *,
-        multiplier_degree: int | None = None,
-        quadrature_degree: int | None = None,
+        method: str = "segment-to-segment",
+        multiplier: tuple[str, int] | None = None,
+        quadrature: str | None = None,
+        quadrature_points: int | None = None,
+        weight: str = "unit",
         search_radius: float | None = None,
     ):
         r"""Define the pair and its multiplier space.
@@ -133,16 +161,23 @@ class ContactPair:
         Args:
             contactor: Surface :math:`\Gamma_C` carrying the multiplier.
             target: Surface :math:`\Gamma_T`.
-            multiplier_degree: Degree :math:`s` of :math:`\mathcal M^1_{h,s}` (Eq. 16);
-                defaults to the contactor's displacement degree.
-            quadrature_degree: Degree that the Gauss rule on each sub-segment integrates
-                exactly; defaults to the multiplier degree plus the larger displacement
-                degree, plus two per curved geometry degree.
+            method: One of :data:`METHODS`.
+            multiplier: ``("Lagrange", s)`` for :math:`\mathcal M^1_{h,s}` (continuous) or
+                ``("DG", s)`` for :math:`\mathcal M^0_{h,s}` (discontinuous), Eq. (16);
+                defaults to continuous of the contactor's displacement degree. Node-based
+                methods need the default.
+            quadrature: One of :data:`~dolfinx_contact_s2s.quadrature.RULES`; defaults
+                to ``"composite-gauss"`` (``"gauss"`` for ``node-to-segment-gauss``).
+            quadrature_points: Points per (sub-)segment; defaults to the fewest Gauss
+                points that integrate Eq. (17) exactly on straight segments (plus one per
+                curved geometry degree), or the contactor degree plus one for Newton-Cotes.
+            weight: ``"unit"`` or ``"tributary"``, for ``node-to-segment``.
             search_radius: Largest normal distance at which facets are paired; defaults
                 to the largest facet size of either surface.
 
         Raises:
-            ValueError: On every rank, if the contactor is its own target.
+            ValueError: On every rank, for an unknown or inconsistent choice, or a
+                contactor that is its own target.
         """
         if contactor is target or (
             contactor.V.mesh is target.V.mesh and contactor.tag == target.tag
@@ -150,25 +185,68 @@ class ContactPair:
             raise ValueError("the contactor surface must differ from its target surface")
         if contactor.V.mesh.comm.Compare(target.V.mesh.comm) == MPI.UNEQUAL:
             raise ValueError("contactor and target must live on the same communicator")
+        if method not in METHODS:
+            raise ValueError(f"unknown contact method {method!r}; choose from {METHODS}")
+        if weight not in ("unit", "tributary"):
+            raise ValueError("weight must be 'unit' or 'tributary'")
         self.contactor = contactor
         self.target = target
+        self.method = method
+        self.weight = "unit" if method == "node-to-node" else weight
+        k_c = contactor.element.degree
+        nodal = method in ("node-to-segment", "node-to-node")
 
-        degree_u = max(contactor.element.degree, target.element.degree)
-        self.multiplier_degree = (
-            contactor.element.degree if multiplier_degree is None else int(multiplier_degree)
-        )
-        if self.multiplier_degree < 1:
-            raise ValueError("the continuous multiplier needs degree 1 or more")
+        if quadrature is None:
+            quadrature = "gauss" if method == "node-to-segment-gauss" else "composite-gauss"
+        if quadrature not in RULES:
+            raise ValueError(f"unknown quadrature {quadrature!r}; choose from {RULES}")
+        if method == "node-to-segment-gauss" and quadrature != "gauss":
+            raise ValueError("node-to-segment-gauss constrains the contactor's Gauss points")
+        self.quadrature = quadrature
+
+        family, degree = ("Lagrange", k_c) if multiplier is None else multiplier
+        continuous = family in ("Lagrange", "P", "CG")
+        if not continuous and family not in ("DG", "Discontinuous Lagrange"):
+            raise ValueError(f"multiplier family must be 'Lagrange' or 'DG', not {family!r}")
+        if continuous and degree < 1:
+            raise ValueError("a continuous multiplier needs degree 1 or more")
+        if nodal and (not continuous or degree != k_c):
+            raise ValueError(f"{method} puts one multiplier on every contactor node")
+        if method == "node-to-segment-gauss" and multiplier is not None:
+            raise ValueError("node-to-segment-gauss has one multiplier per Gauss point")
+
         curved = contactor.cmap.degree - 1 + target.cmap.degree - 1
-        self.quadrature_degree = (
-            self.multiplier_degree + degree_u + 2 * curved
-            if quadrature_degree is None
-            else int(quadrature_degree)
-        )
-        self._search_radius = search_radius
-        self._build_multiplier_space()
+        k_u = max(k_c, target.element.degree)
+        if quadrature_points is None:
+            if quadrature.endswith("newton-cotes"):
+                quadrature_points = max(degree + k_u, 1) + 1
+            else:
+                quadrature_points = (degree + k_u + 2 * curved) // 2 + 1
+        self.quadrature_points = int(quadrature_points)
+        self._rule = interval_rule(quadrature, self.quadrature_points)
 
-    def _build_multiplier_space(self) -> None:
+        variant = basix.LagrangeVariant.unset
+        if method == "node-to-segment-gauss":
+            # One discontinuous multiplier per Gauss point: Lagrange at the Gauss points.
+            continuous, degree = False, self.quadrature_points - 1
+            variant = basix.LagrangeVariant.gl_warped
+        elif degree > 2 or (not continuous and degree > 0):
+            variant = basix.LagrangeVariant.gll_warped
+        self.multiplier_degree = degree
+        self.multiplier_continuous = continuous
+        self._search_radius = search_radius
+        self._build_multiplier_space(degree, not continuous, variant)
+
+    @property
+    def multiplier_label(self) -> str:
+        r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
+        if self.method == "node-to-segment-gauss":
+            return "point values"
+        return f"M^{int(self.multiplier_continuous)}_{{h,{self.multiplier_degree}}}"
+
+    def _build_multiplier_space(
+        self, degree: int, discontinuous: bool, variant: basix.LagrangeVariant
+    ) -> None:
         mesh = self.contactor.V.mesh
         fdim = mesh.topology.dim - 1
         owned = self.contactor.data.facets
@@ -185,7 +263,11 @@ class ContactPair:
         parent_to_sub = np.full(num_facets, -1, dtype=np.int32)
         parent_to_sub[parent] = np.arange(num_sub, dtype=np.int32)
         self.multiplier_element = basix.ufl.element(
-            "Lagrange", submesh.basix_cell(), self.multiplier_degree
+            "Lagrange",
+            submesh.basix_cell(),
+            degree,
+            lagrange_variant=variant,
+            discontinuous=discontinuous,
         )
         self.Q = dolfinx.fem.functionspace(submesh, self.multiplier_element)
         self.submesh = submesh
@@ -209,6 +291,16 @@ class ContactPair:
             self._search_radius = self.contactor.comm.allreduce(local, op=MPI.MAX)
         return self._search_radius
 
+    def _candidates(
+        self, boxes: npt.NDArray[np.floating], T: SurfaceData
+    ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+        """Pairs (box, target facet) whose boxes overlap once padded by the search radius."""
+        r = self.search_radius
+        padded = boxes.copy()
+        padded[:, 0] -= r
+        padded[:, 1] += r
+        return box_pairs(padded, self.target.bounding_boxes(T))
+
     def sub_segments(self, target_data: SurfaceData | None = None) -> SubSegments:
         """Cut the contactor facets at the projected target corner nodes (Fig. 15(b)).
 
@@ -221,17 +313,13 @@ class ContactPair:
         C, cs = self.contactor.data, self.contactor
         T = self.target.gather() if target_data is None else target_data
         ts = self.target
-        r = self.search_radius
-        boxes_c = cs.bounding_boxes(C)
-        boxes_c[:, 0] -= r
-        boxes_c[:, 1] += r
-        ic, it = box_pairs(boxes_c, ts.bounding_boxes(T))
+        ic, it = self._candidates(cs.bounding_boxes(C), T)
 
         half = np.full(ic.size, 0.5)
         n_c = cs.outward_normals(C, ic, cs.reference_points(C, ic, half))
         n_t = ts.outward_normals(T, it, ts.reference_points(T, it, half))
         facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
-        ic, it = ic[facing], it[facing]
+        ic, it, n_c = ic[facing], it[facing], n_c[facing]
 
         # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
         _, xa, _ = ts.evaluate(T, it, np.zeros(it.size))
@@ -240,40 +328,156 @@ class ContactPair:
         xi_b = cs.project(C, ic, xb)
         lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
         hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
-        # Distance along the contactor normal from the facet mid-point to the target.
+        # Normal distance from the sub-segment's middle to the target facet.
         _, xm, _ = cs.evaluate(C, ic, 0.5 * (lo + hi))
-        _, xt_a, _ = ts.evaluate(T, it, np.full(it.size, 0.5))
-        near = np.abs(np.einsum("pg,pg->p", xt_a - xm, n_c[facing])) <= r
+        _, xt, _ = ts.evaluate(T, it, np.full(it.size, 0.5))
+        near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= self.search_radius
         keep = (hi - lo > 1e-12) & near
         return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
 
-    def quadrature(self) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
-        """Gauss points and weights on the unit interval, used on every sub-segment."""
-        points, weights = basix.make_quadrature(
-            basix.CellType.interval, self.quadrature_degree, rule=basix.QuadratureType.gauss_jacobi
-        )
-        return points[:, 0], weights
+    def _find_targets(
+        self, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating], T: SurfaceData
+    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32]]:
+        """The target facet hit along the normal from each contactor point (Fig. 7(b)).
+
+        Returns:
+            The points that hit a facing target facet within the search radius, and
+            the facet each of them hits (the nearest; any one where several meet).
+        """
+        cs, ts, C = self.contactor, self.target, self.contactor.data
+        X, x, _ = cs.evaluate(C, rows, xi)
+        normals = -cs.outward_normals(C, rows, X)
+        ip, it = self._candidates(np.stack([x, x], axis=1), T)
+        eta = ts.intersect(T, it, x[ip], normals[ip])
+        tol = 1e-10
+        inside = (eta >= -tol) & (eta <= 1 + tol)
+        eta = np.clip(eta, 0.0, 1.0)
+        X_t, x_t, _ = ts.evaluate(T, it, eta)
+        gap = np.einsum("pg,pg->p", x[ip] - x_t, normals[ip])
+        facing = np.einsum("pg,pg->p", ts.outward_normals(T, it, X_t), normals[ip]) > 0
+        ok = inside & facing & (np.abs(gap) <= self.search_radius)
+        ip, it, gap = ip[ok], it[ok], gap[ok]
+        order = np.lexsort((np.abs(gap), ip))
+        first = np.ones(order.size, dtype=bool)
+        first[1:] = ip[order][1:] != ip[order][:-1]
+        best = order[first]
+        return ip[best].astype(np.int64), it[best]
+
+    def _multiplicity(self) -> npt.NDArray[np.floating]:
+        """Number of contactor facets (over all processes) that share each multiplier dof."""
+        count = dolfinx.fem.Function(self.Q)
+        np.add.at(count.x.array, self.Q.dofmap.list[self._sub_cells].reshape(-1), 1.0)
+        count.x.scatter_reverse(dolfinx.la.InsertMode.add)
+        count.x.scatter_forward()
+        return count.x.array
+
+    def _point_rule(self) -> tuple[npt.NDArray[np.int32], ...]:
+        """Constraint points on the contactor facets for the point-based methods.
+
+        Returns:
+            ``(rows, xi, weights)``: facet row, facet parameter and weight of every point.
+        """
+        cs, C = self.contactor, self.contactor.data
+        n = len(C)
+        if self.method in ("node-to-segment", "node-to-node"):
+            # Every multiplier dof sits on a contactor node; s is the submesh parameter.
+            s_nodes = self.multiplier_element.basix_element.points[:, 0]
+            k = s_nodes.size
+            rows = np.repeat(np.arange(n, dtype=np.int32), k)
+            s = np.tile(s_nodes, n)
+            xi = np.where(self._flip[rows], 1.0 - s, s)
+            if self.weight == "unit":
+                mult = self._multiplicity()[self.Q.dofmap.list[self._sub_cells]]
+                weights = 1.0 / mult.reshape(-1)
+            else:
+                weights = self._facet_integrals().reshape(-1)
+            return rows, xi, weights
+        s_ref, w_ref = self._rule
+        rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
+        xi = np.tile(s_ref, n)
+        _, _, dx = cs.evaluate(C, rows, xi)
+        return rows, xi, np.tile(w_ref, n) * np.linalg.norm(dx, axis=1)
+
+    def _facet_integrals(self) -> npt.NDArray[np.floating]:
+        r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet."""
+        cs, C = self.contactor, self.contactor.data
+        n = len(C)
+        s_ref, w_ref = interval_rule("gauss", self.multiplier_degree + 3)
+        rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
+        xi = np.tile(s_ref, n)
+        _, _, dx = cs.evaluate(C, rows, xi)
+        s_sub = np.where(self._flip[rows], 1.0 - xi, xi)
+        mu = tabulate(self.multiplier_element, 0, s_sub[:, None])[0]
+        w = (np.tile(w_ref, n) * np.linalg.norm(dx, axis=1))[:, None] * mu
+        return w.reshape(n, s_ref.size, -1).sum(axis=1)
+
+    def integration_points(
+        self, target_data: SurfaceData | None = None
+    ) -> tuple[npt.NDArray, npt.NDArray, npt.NDArray, npt.NDArray]:
+        """Contactor integration points of Eq. (40), grouped by (sub-)segment.
+
+        Returns:
+            ``(contactor_rows, target_rows, xi, weights)``: per group the contactor and
+            target facet rows, and per group and point the contactor facet parameter
+            and the weight (including the facet's length element), shapes ``(S,)``,
+            ``(S,)``, ``(S, Q)``, ``(S, Q)``.
+        """
+        cs, C = self.contactor, self.contactor.data
+        T = self.target.gather() if target_data is None else target_data
+        if self.method == "segment-to-segment" and self.quadrature.startswith("composite-"):
+            seg = self.sub_segments(T)
+            s_ref, w_ref = self._rule
+            length = seg.hi - seg.lo
+            xi = seg.lo[:, None] + length[:, None] * s_ref[None, :]
+            _, _, dx = cs.evaluate(C, np.repeat(seg.contactor, s_ref.size), xi.reshape(-1))
+            jac = np.linalg.norm(dx, axis=1).reshape(xi.shape)
+            return seg.contactor, seg.target, xi, length[:, None] * w_ref[None, :] * jac
+        rows, xi, weights = self._point_rule()
+        hit, t_rows = self._find_targets(rows, xi, T)
+        if self.method == "node-to-node":
+            self._check_coincident(rows[hit], xi[hit], t_rows, T)
+        return rows[hit], t_rows, xi[hit, None], weights[hit, None]
+
+    def _check_coincident(
+        self,
+        rows: npt.NDArray[np.int32],
+        xi: npt.NDArray[np.floating],
+        t_rows: npt.NDArray[np.int32],
+        T: SurfaceData,
+    ) -> None:
+        """Raise on every rank unless every contactor node meets a target node (Eq. 37)."""
+        cs, ts = self.contactor, self.target
+        X, x, _ = cs.evaluate(cs.data, rows, xi)
+        eta = ts.intersect(T, t_rows, x, -cs.outward_normals(cs.data, rows, X))
+        # Facet parameters of the target's Lagrange nodes (P1: ends; P2: ends and middle).
+        nodes = np.linspace(0.0, 1.0, ts.element.degree + 1)
+        off = np.min(np.abs(eta[:, None] - nodes[None, :]), axis=1, initial=np.inf)
+        distance = off * ts.sizes(T)[t_rows]
+        h = float(np.min(ts.sizes(T), initial=np.inf))
+        bad = int(np.count_nonzero(distance > 1e-8 * h))
+        if self.contactor.comm.allreduce(bad, op=MPI.SUM):
+            raise ValueError(
+                "node-to-node contact needs coincident nodes on the two surfaces; "
+                "use node-to-segment or segment-to-segment on non-matching meshes"
+            )
 
     def coupling_blocks(self) -> CouplingBlocks:
-        """Integrate Eq. (40) over every sub-segment of the process's contactor facets.
+        """Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40).
 
         Returns:
             The local blocks with their global row and column indices.
         """
         C, cs, ts = self.contactor.data, self.contactor, self.target
         T = ts.gather()
-        seg = self.sub_segments(T)
-        s_ref, w_ref = self.quadrature()
-        S, nq = len(seg), s_ref.size
-        length = seg.hi - seg.lo
-        xi = (seg.lo[:, None] + length[:, None] * s_ref[None, :]).reshape(-1)
-        rows_c = np.repeat(seg.contactor, nq)
-        rows_t = np.repeat(seg.target, nq)
+        c_rows, t_rows, xi, w = self.integration_points(T)
+        S, nq = xi.shape
+        rows_c = np.repeat(c_rows, nq)
+        rows_t = np.repeat(t_rows, nq)
+        xi = xi.reshape(-1)
 
-        X_c, x_c, dx_c = cs.evaluate(C, rows_c, xi)
-        weights = (length[:, None] * w_ref[None, :]).reshape(-1) * np.linalg.norm(dx_c, axis=1)
+        X_c, x_c, _ = cs.evaluate(C, rows_c, xi)
         normals = -cs.outward_normals(C, rows_c, X_c)
-        eta = ts.intersect(T, rows_t, x_c, normals)
+        eta = np.clip(ts.intersect(T, rows_t, x_c, normals), 0.0, 1.0)
         X_t, x_t, _ = ts.evaluate(T, rows_t, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
@@ -286,44 +490,35 @@ class ContactPair:
             phi_c.reshape(S, nq, phi_c.shape[1]),
             phi_t.reshape(S, nq, phi_t.shape[1]),
             normals.reshape(S, nq, gdim),
-            weights.reshape(S, nq),
+            w.reshape(S, nq),
             gaps.reshape(S, nq),
         )
 
         qmap = self.Q.dofmap
-        local_rows = qmap.list[self._sub_cells[seg.contactor]]
+        local_rows = qmap.list[self._sub_cells[c_rows]]
         rows = qmap.index_map.local_to_global(local_rows.reshape(-1)).reshape(local_rows.shape)
-        return CouplingBlocks(
-            rows.astype(np.int64),
-            C.dofs[seg.contactor],
-            T.dofs[seg.target],
-            b_c,
-            b_t,
-            g,
-        )
-
-    def check_facing(self, segments: SubSegments) -> None:
-        """Raise on every rank if the surfaces share no sub-segment."""
-        if self.contactor.comm.allreduce(len(segments), op=MPI.SUM) == 0:
-            raise ValueError(
-                "the contactor and target surfaces never face each other within the search "
-                f"radius {self.search_radius:g}: no sub-segment to integrate"
-            )
+        return CouplingBlocks(rows.astype(np.int64), C.dofs[c_rows], T.dofs[t_rows], b_c, b_t, g)
 
 
 def contact_pair(
     contactor: ContactSurface,
     target: ContactSurface,
     *,
-    multiplier_degree: int | None = None,
-    quadrature_degree: int | None = None,
+    method: str = "segment-to-segment",
+    multiplier: tuple[str, int] | None = None,
+    quadrature: str | None = None,
+    quadrature_points: int | None = None,
+    weight: str = "unit",
     search_radius: float | None = None,
 ) -> ContactPair:
     """Create a :class:`ContactPair` (see its constructor for the arguments)."""
     return ContactPair(
         contactor,
         target,
-        multiplier_degree=multiplier_degree,
-        quadrature_degree=quadrature_degree,
+        method=method,
+        multiplier=multiplier,
+        quadrature=quadrature,
+        quadrature_points=quadrature_points,
+        weight=weight,
         search_radius=search_radius,
     )

@@ -30,6 +30,8 @@ __all__ = [
     "MATERIALS",
     "PatchTestCase",
     "PatchTestSolution",
+    "contact_pressure",
+    "errors",
     "exact_displacement",
     "solve_patch_test",
 ]
@@ -59,24 +61,25 @@ class PatchTestCase:
     geometry_degree: int = 1
     gap: float = 0.0
     pressure: float = 1.0
+    method: str = "segment-to-segment"
+    multiplier: tuple[str, int] | None = None
+    quadrature: str | None = None
+    quadrature_points: int | None = None
+    weight: str = "unit"
 
-    @property
-    def method(self) -> str:
-        """Discretization name."""
-        return "segment-to-segment"
-
-    @property
-    def multiplier(self) -> str:
-        """Multiplier space in the notation of Eq. (16)."""
-        k = self.degrees[0] if self.contactor == "lower" else self.degrees[1]
-        return f"M^1_{{h,{k}}}"
+    def pair_options(self) -> dict:
+        """Keyword arguments of :func:`~dolfinx_contact_s2s.contact_pair`."""
+        return {
+            "method": self.method,
+            "multiplier": self.multiplier,
+            "quadrature": self.quadrature,
+            "quadrature_points": self.quadrature_points,
+            "weight": self.weight,
+        }
 
     def record(self) -> dict:
         """The case as a JSON-ready dictionary."""
-        out = asdict(self)
-        out["method"] = self.method
-        out["multiplier"] = self.multiplier
-        return out
+        return asdict(self)
 
 
 @dataclass
@@ -181,7 +184,7 @@ def solve_patch_test(
         n: contact_surface(spaces[n], scene.bodies[n].facet_tags, scene.bodies[n].contact)
         for n in names
     }
-    pair = contact_pair(surfaces[case.contactor], surfaces[target])
+    pair = contact_pair(surfaces[case.contactor], surfaces[target], **case.pair_options())
     problem = ContactProblem(
         a, L, [pair], bcs, petsc_options_prefix=petsc_options_prefix, petsc_options=petsc_options
     )
@@ -195,6 +198,24 @@ def solve_patch_test(
     return PatchTestSolution(case, scene, pair, displacement, stress, lam[0])
 
 
+def contact_pressure(pair: ContactPair, multiplier: dolfinx.fem.Function) -> npt.NDArray:
+    r"""Owned pressure values of a multiplier; nodal forces (unit weights) become pressures.
+
+    With :math:`w^i = 1` in Eq. (39) the multiplier is the nodal force; dividing by the
+    node's tributary length :math:`\int_{\Gamma_C} \mu_i` gives the pressure.
+    """
+    n = multiplier.function_space.dofmap.index_map.size_local
+    values = multiplier.x.array[:n]
+    if pair.method in ("node-to-segment", "node-to-node") and pair.weight == "unit":
+        Q = multiplier.function_space
+        length = dolfinx.fem.assemble_vector(
+            dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
+        )
+        length.scatter_reverse(dolfinx.la.InsertMode.add)
+        values = values / length.array[:n]
+    return values
+
+
 def errors(solution: PatchTestSolution) -> tuple[float, float]:
     """Largest pressure and stress errors relative to :math:`p`, over all processes.
 
@@ -203,8 +224,7 @@ def errors(solution: PatchTestSolution) -> tuple[float, float]:
     """
     p = solution.case.pressure
     lam = solution.pressure
-    n = lam.function_space.dofmap.index_map.size_local
-    e_p = float(np.max(np.abs(lam.x.array[:n] - p), initial=0.0)) / p
+    e_p = float(np.max(np.abs(contact_pressure(solution.pair, lam) - p), initial=0.0)) / p
     exact = np.array([0.0, 0.0, 0.0, -p])
     e_s = 0.0
     for s in solution.stress.values():

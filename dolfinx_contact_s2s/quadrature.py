@@ -1,0 +1,49 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Quadrature rules on the unit interval for contact integrals (Fig. 15).
+
+Gauss rules come from Basix; closed Newton-Cotes rules (Fig. 15(c): the two-point
+one is the trapezoidal rule) have equally spaced points including both ends.
+"""
+
+from __future__ import annotations
+
+import basix
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["RULES", "interval_rule"]
+
+#: Rule names: ``composite-`` rules are applied on every sub-segment (Fig. 15(b)-(c)),
+#: the others on every contactor segment (Fig. 15(a)).
+RULES = ("composite-gauss", "composite-newton-cotes", "gauss", "newton-cotes")
+
+
+def interval_rule(
+    kind: str, points: int
+) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+    """Points and weights of a rule on :math:`[0, 1]`.
+
+    Args:
+        kind: ``"gauss"`` (Gauss-Legendre, exact to degree :math:`2n - 1`) or
+            ``"newton-cotes"`` (closed, exact to degree :math:`n - 1`, or :math:`n` for
+            odd :math:`n`); a ``composite-`` prefix is ignored here.
+        points: Number of points :math:`n`.
+    """
+    kind = kind.removeprefix("composite-")
+    if kind == "gauss":
+        if points < 1:
+            raise ValueError("a Gauss rule needs at least one point")
+        x, w = basix.make_quadrature(
+            basix.CellType.interval, 2 * points - 1, rule=basix.QuadratureType.gauss_jacobi
+        )
+        return x[:, 0], w
+    if kind == "newton-cotes":
+        if points < 2:
+            raise ValueError("a closed Newton-Cotes rule needs at least two points")
+        x = np.linspace(0.0, 1.0, points)
+        # Weights integrating 1, x, ..., x^(n-1) exactly.
+        moments = 1.0 / np.arange(1, points + 1)
+        w = np.linalg.solve(np.vander(x, increasing=True).T, moments)
+        return x, w
+    raise ValueError(f"unknown quadrature rule {kind!r}; choose from {RULES}")
