@@ -34,8 +34,8 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s import kernels
-from dolfinx_contact_s2s.quadrature import RULES, interval_rule
 from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
+from dolfinx_contact_s2s.quadrature import RULES, interval_rule
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
 
 __all__ = [
