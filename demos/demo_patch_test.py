@@ -102,7 +102,8 @@ profiles = {}
 start = time.perf_counter()
 for k, case in enumerate(cases, 1):
     sol = solve_patch_test(comm, case)
-    e_p, e_s = errors(sol)
+    err = errors(sol)
+    e_p, e_s = err.pressure, err.stress
     rec = case.record()
     rec.update(
         ranks=comm.size,

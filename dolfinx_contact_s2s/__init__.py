@@ -10,19 +10,28 @@ The PETSc layer (assembly of the coupling block and the saddle-point solve) live
 """
 
 from dolfinx_contact_s2s import scenes
-from dolfinx_contact_s2s.coupling import ContactPair, CouplingBlocks, SubSegments, contact_pair
+from dolfinx_contact_s2s.coupling import (
+    METHODS,
+    ContactPair,
+    CouplingBlocks,
+    SubSegments,
+    contact_pair,
+    contact_pairs,
+)
 from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "METHODS",
     "ContactPair",
     "ContactSurface",
     "CouplingBlocks",
     "Material",
     "SubSegments",
     "contact_pair",
+    "contact_pairs",
     "contact_surface",
     "epsilon",
     "scenes",

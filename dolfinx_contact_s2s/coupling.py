@@ -45,9 +45,11 @@ __all__ = [
     "SubSegments",
     "box_pairs",
     "contact_pair",
+    "contact_pairs",
 ]
 
-#: Contact discretizations (sections 4 and 5).
+#: Contact discretizations of a single pair (sections 4 and 5); see also
+#: :func:`contact_pairs` for the two-pass method.
 METHODS = ("segment-to-segment", "node-to-segment", "node-to-segment-gauss", "node-to-node")
 
 
@@ -155,6 +157,7 @@ class ContactPair:
         quadrature_points: int | None = None,
         weight: str = "unit",
         search_radius: float | None = None,
+        drop_coincident: bool = False,
     ):
         r"""Define the pair and its multiplier space.
 
@@ -174,6 +177,9 @@ class ContactPair:
             weight: ``"unit"`` or ``"tributary"``, for ``node-to-segment``.
             search_radius: Largest normal distance at which facets are paired; defaults
                 to the largest facet size of either surface.
+            drop_coincident: For ``node-to-segment``: leave out the constraints of nodes
+                that meet a target node (the duplicates of the second pass of the
+                two-pass algorithm, section 4.3); see :func:`contact_pairs`.
 
         Raises:
             ValueError: On every rank, for an unknown or inconsistent choice, or a
@@ -193,6 +199,9 @@ class ContactPair:
         self.target = target
         self.method = method
         self.weight = "unit" if method == "node-to-node" else weight
+        if drop_coincident and method != "node-to-segment":
+            raise ValueError("drop_coincident applies to node-to-segment only")
+        self.drop_coincident = drop_coincident
         k_c = contactor.element.degree
         nodal = method in ("node-to-segment", "node-to-node")
 
@@ -234,6 +243,8 @@ class ContactPair:
             variant = basix.LagrangeVariant.gll_warped
         self.multiplier_degree = degree
         self.multiplier_continuous = continuous
+        #: Global multiplier dofs whose constraint is left out (the multiplier is zero).
+        self.inactive = np.empty(0, dtype=np.int64)
         self._search_radius = search_radius
         self._build_multiplier_space(degree, not continuous, variant)
 
@@ -375,7 +386,8 @@ class ContactPair:
         """Constraint points on the contactor facets for the point-based methods.
 
         Returns:
-            ``(rows, xi, weights)``: facet row, facet parameter and weight of every point.
+            ``(rows, xi, weights, dofs)``: facet row, facet parameter, weight and (for
+            the nodal methods, else -1) local multiplier dof of every point.
         """
         cs, C = self.contactor, self.contactor.data
         n = len(C)
@@ -386,17 +398,18 @@ class ContactPair:
             rows = np.repeat(np.arange(n, dtype=np.int32), k)
             s = np.tile(s_nodes, n)
             xi = np.where(self._flip[rows], 1.0 - s, s)
+            dofs = self.Q.dofmap.list[self._sub_cells].reshape(-1)
             if self.weight == "unit":
-                mult = self._multiplicity()[self.Q.dofmap.list[self._sub_cells]]
-                weights = 1.0 / mult.reshape(-1)
+                weights = 1.0 / self._multiplicity()[dofs]
             else:
                 weights = self._facet_integrals().reshape(-1)
-            return rows, xi, weights
+            return rows, xi, weights, dofs
         s_ref, w_ref = self._rule
         rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
         xi = np.tile(s_ref, n)
         _, _, dx = cs.evaluate(C, rows, xi)
-        return rows, xi, np.tile(w_ref, n) * np.linalg.norm(dx, axis=1)
+        weights = np.tile(w_ref, n) * np.linalg.norm(dx, axis=1)
+        return rows, xi, weights, np.full(rows.size, -1, dtype=np.int32)
 
     def _facet_integrals(self) -> npt.NDArray[np.floating]:
         r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet."""
@@ -432,34 +445,54 @@ class ContactPair:
             _, _, dx = cs.evaluate(C, np.repeat(seg.contactor, s_ref.size), xi.reshape(-1))
             jac = np.linalg.norm(dx, axis=1).reshape(xi.shape)
             return seg.contactor, seg.target, xi, length[:, None] * w_ref[None, :] * jac
-        rows, xi, weights = self._point_rule()
+        rows, xi, weights, dofs = self._point_rule()
         hit, t_rows = self._find_targets(rows, xi, T)
-        if self.method == "node-to-node":
-            self._check_coincident(rows[hit], xi[hit], t_rows, T)
-        return rows[hit], t_rows, xi[hit, None], weights[hit, None]
+        rows, xi, weights, dofs = rows[hit], xi[hit], weights[hit], dofs[hit]
+        if self.method == "node-to-node" or self.drop_coincident:
+            h = self.contactor.comm.allreduce(
+                float(np.min(self.target.sizes(T), initial=np.inf)), op=MPI.MIN
+            )
+            coincident = self._node_offsets(rows, xi, t_rows, T) <= 1e-8 * h
+            if self.method == "node-to-node":
+                # Every contactor node meets a target node, and there are as many of each.
+                fdim = 1
+                closure = self.target.element.basix_element.entity_closure_dofs[fdim]
+                bs = self.target.V.dofmap.index_map_bs
+                facet_nodes = np.array([closure[lf] for lf in T.local_facet], dtype=np.int64)
+                if facet_nodes.size:
+                    nodes = np.take_along_axis(T.dofs[:, ::bs], facet_nodes, axis=1)
+                else:
+                    nodes = np.empty(0, dtype=np.int64)
+                same_count = np.unique(nodes).size == self.Q.dofmap.index_map.size_global
+                if not same_count or self.contactor.comm.allreduce(
+                    int(np.count_nonzero(~coincident))
+                ):
+                    raise ValueError(
+                        "node-to-node contact needs coincident nodes on the two surfaces; "
+                        "use node-to-segment or segment-to-segment on non-matching meshes"
+                    )
+            else:
+                imap = self.Q.dofmap.index_map
+                local = np.unique(dofs[coincident])
+                mine = imap.local_to_global(local.astype(np.int32)).astype(np.int64)
+                self.inactive = np.unique(np.concatenate(self.contactor.comm.allgather(mine)))
+        return rows, t_rows, xi[:, None], weights[:, None]
 
-    def _check_coincident(
+    def _node_offsets(
         self,
         rows: npt.NDArray[np.int32],
         xi: npt.NDArray[np.floating],
         t_rows: npt.NDArray[np.int32],
         T: SurfaceData,
-    ) -> None:
-        """Raise on every rank unless every contactor node meets a target node (Eq. 37)."""
+    ) -> npt.NDArray[np.floating]:
+        """Distance from each contactor point's target point to the nearest target node."""
         cs, ts = self.contactor, self.target
         X, x, _ = cs.evaluate(cs.data, rows, xi)
         eta = ts.intersect(T, t_rows, x, -cs.outward_normals(cs.data, rows, X))
         # Facet parameters of the target's Lagrange nodes (P1: ends; P2: ends and middle).
         nodes = np.linspace(0.0, 1.0, ts.element.degree + 1)
         off = np.min(np.abs(eta[:, None] - nodes[None, :]), axis=1, initial=np.inf)
-        distance = off * ts.sizes(T)[t_rows]
-        h = float(np.min(ts.sizes(T), initial=np.inf))
-        bad = int(np.count_nonzero(distance > 1e-8 * h))
-        if self.contactor.comm.allreduce(bad, op=MPI.SUM):
-            raise ValueError(
-                "node-to-node contact needs coincident nodes on the two surfaces; "
-                "use node-to-segment or segment-to-segment on non-matching meshes"
-            )
+        return off * ts.sizes(T)[t_rows]
 
     def coupling_blocks(self) -> CouplingBlocks:
         """Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40).
@@ -498,6 +531,34 @@ class ContactPair:
         local_rows = qmap.list[self._sub_cells[c_rows]]
         rows = qmap.index_map.local_to_global(local_rows.reshape(-1)).reshape(local_rows.shape)
         return CouplingBlocks(rows.astype(np.int64), C.dofs[c_rows], T.dofs[t_rows], b_c, b_t, g)
+
+
+def contact_pairs(
+    contactor: ContactSurface,
+    target: ContactSurface,
+    *,
+    method: str = "segment-to-segment",
+    **options,
+) -> list[ContactPair]:
+    """The contact pairs of a discretization: one, or two for a two-pass method.
+
+    Args:
+        contactor: First surface (the contactor of the first pass).
+        target: Second surface.
+        method: One of :data:`METHODS`, or ``"two-pass node-to-segment"`` (section 4.3):
+            node-to-segment with each surface as contactor in turn, the second pass
+            without the constraints of nodes that coincide with nodes of the first
+            (within :math:`10^{-8}` of the element size).
+        options: Further arguments of :class:`ContactPair`.
+    """
+    if method == "two-pass node-to-segment":
+        return [
+            ContactPair(contactor, target, method="node-to-segment", **options),
+            ContactPair(
+                target, contactor, method="node-to-segment", drop_coincident=True, **options
+            ),
+        ]
+    return [ContactPair(contactor, target, method=method, **options)]
 
 
 def contact_pair(

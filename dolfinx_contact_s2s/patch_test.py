@@ -12,6 +12,7 @@ displacements are linear. A discretization passes when it reproduces these.
 
 from __future__ import annotations
 
+import typing
 from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
@@ -21,14 +22,18 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair, contact_pair
+from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
 from dolfinx_contact_s2s.elasticity import Material, stress_function
 from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, TOP, Body, PatchTestScene, patch_test
 from dolfinx_contact_s2s.surface import contact_surface
 
+if typing.TYPE_CHECKING:
+    from dolfinx_contact_s2s.stability import Solvability
+
 __all__ = [
     "MATERIALS",
     "PatchTestCase",
+    "PatchTestErrors",
     "PatchTestSolution",
     "contact_pressure",
     "errors",
@@ -89,18 +94,32 @@ class PatchTestSolution:
     Attributes:
         case: The configuration.
         scene: Meshes and tags.
-        pair: The contact pair.
-        displacement: Displacement of each body.
+        pairs: The contact pairs (two for a two-pass method).
+        solvability: Rank of the constraints (Eq. 35); unsolvable cases are not solved.
+        displacement: Displacement of each body (``None`` if unsolvable).
         stress: Stress of each body (discontinuous Lagrange tensor).
-        pressure: Contact pressure on the contactor facets.
+        pressures: Multiplier of each pair.
     """
 
     case: PatchTestCase
     scene: PatchTestScene
-    pair: ContactPair
-    displacement: dict[str, dolfinx.fem.Function]
-    stress: dict[str, dolfinx.fem.Function]
-    pressure: dolfinx.fem.Function
+    pairs: list[ContactPair]
+    solvability: Solvability
+    displacement: dict[str, dolfinx.fem.Function] | None = None
+    stress: dict[str, dolfinx.fem.Function] | None = None
+    pressures: list[dolfinx.fem.Function] | None = None
+    nodal_pressure: dict[str, npt.NDArray[np.floating]] | None = None
+
+    @property
+    def pair(self) -> ContactPair:
+        """The (first) contact pair."""
+        return self.pairs[0]
+
+    @property
+    def pressure(self) -> dolfinx.fem.Function:
+        """The multiplier of the (first) pair."""
+        assert self.pressures is not None
+        return self.pressures[0]
 
 
 def _body_forms(
@@ -163,6 +182,7 @@ def solve_patch_test(
 ) -> PatchTestSolution:
     """Build the scene of ``case`` and solve the contact problem (Eq. 18)."""
     from dolfinx_contact_s2s.petsc import ContactProblem
+    from dolfinx_contact_s2s.stability import solvability
 
     if case.contactor not in ("upper", "lower"):
         raise ValueError("contactor must be 'upper' or 'lower'")
@@ -184,28 +204,56 @@ def solve_patch_test(
         n: contact_surface(spaces[n], scene.bodies[n].facet_tags, scene.bodies[n].contact)
         for n in names
     }
-    pair = contact_pair(surfaces[case.contactor], surfaces[target], **case.pair_options())
+    pairs = contact_pairs(surfaces[case.contactor], surfaces[target], **case.pair_options())
     problem = ContactProblem(
-        a, L, [pair], bcs, petsc_options_prefix=petsc_options_prefix, petsc_options=petsc_options
+        a, L, pairs, bcs, petsc_options_prefix=petsc_options_prefix, petsc_options=petsc_options
     )
+    check = solvability(problem)
+    if not check.solvable:
+        problem.destroy()
+        return PatchTestSolution(case, scene, pairs, check)
     u, lam = problem.solve()
+    forces = dict(zip(names, problem.contact_forces(), strict=True))
     problem.destroy()
+    nodal = {n: _nodal_pressure(scene.bodies[n], forces[n]) for n in names}
     displacement = dict(zip(names, u, strict=True))
     for name, f in displacement.items():
         f.name = f"u_{name}"
     stress = {n: stress_function(displacement[n], MATERIALS[n]) for n in names}
-    lam[0].name = "contact_pressure"
-    return PatchTestSolution(case, scene, pair, displacement, stress, lam[0])
+    for f in lam:
+        f.name = "contact_pressure"
+    return PatchTestSolution(case, scene, pairs, check, displacement, stress, lam, nodal)
+
+
+def _nodal_pressure(body: Body, force: dolfinx.fem.Function) -> npt.NDArray[np.floating]:
+    r"""Pressure carried by each contact node: its contact force over its consistent load.
+
+    The consistent load of a unit pressure is :math:`\int_{\Gamma} \phi_j \, (-\mathbf n)`;
+    a node transmitting the exact pressure :math:`p` carries :math:`p` times it (Fig. 9(a)).
+    """
+    V = force.function_space
+    v = ufl.TestFunction(V)
+    n = ufl.FacetNormal(V.mesh)
+    ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=body.facet_tags)
+    load = dolfinx.fem.assemble_vector(dolfinx.fem.form(ufl.inner(-n, v) * ds(body.contact)))
+    load.scatter_reverse(dolfinx.la.InsertMode.add)
+    owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+    c = load.array[:owned].reshape(-1, 2)[:, 1]
+    f = force.x.array[:owned].reshape(-1, 2)[:, 1]
+    on = np.abs(c) > 1e-12 * np.max(np.abs(c), initial=1.0)
+    return f[on] / c[on]
 
 
 def contact_pressure(pair: ContactPair, multiplier: dolfinx.fem.Function) -> npt.NDArray:
-    r"""Owned pressure values of a multiplier; nodal forces (unit weights) become pressures.
+    r"""Owned, active pressure values of a multiplier; nodal forces become pressures.
 
     With :math:`w^i = 1` in Eq. (39) the multiplier is the nodal force; dividing by the
     node's tributary length :math:`\int_{\Gamma_C} \mu_i` gives the pressure.
     """
-    n = multiplier.function_space.dofmap.index_map.size_local
+    imap = multiplier.function_space.dofmap.index_map
+    n = imap.size_local
     values = multiplier.x.array[:n]
+    active = ~np.isin(np.arange(*imap.local_range), pair.inactive)
     if pair.method in ("node-to-segment", "node-to-node") and pair.weight == "unit":
         Q = multiplier.function_space
         length = dolfinx.fem.assemble_vector(
@@ -213,22 +261,47 @@ def contact_pressure(pair: ContactPair, multiplier: dolfinx.fem.Function) -> npt
         )
         length.scatter_reverse(dolfinx.la.InsertMode.add)
         values = values / length.array[:n]
-    return values
+    return values[active]
 
 
-def errors(solution: PatchTestSolution) -> tuple[float, float]:
-    """Largest pressure and stress errors relative to :math:`p`, over all processes.
+@dataclass(frozen=True)
+class PatchTestErrors:
+    r"""Errors of a patch test solution relative to :math:`p` (maximum over all processes).
 
-    Returns:
-        ``(max |lambda - p| / p, max |sigma - sigma_exact| / p)``.
+    Attributes:
+        pressure: :math:`\max |\lambda - p| / p` over the active multipliers (nodal
+            forces over tributary lengths for unit weights); for two-pass methods,
+            whose multipliers split the force between the passes, the nodal-force
+            pressure below.
+        stress: :math:`\max |\sigma - \sigma_{exact}| / p` over both bodies.
+        force: :math:`\max |f_j / c_j - p| / p` over the contact nodes of both bodies,
+            with :math:`f_j` the transmitted nodal force and :math:`c_j` the consistent
+            nodal load of a unit pressure (Fig. 9).
     """
+
+    pressure: float
+    stress: float
+    force: float
+
+
+def errors(solution: PatchTestSolution) -> PatchTestErrors:
+    """Compare a solution with the exact one."""
     p = solution.case.pressure
-    lam = solution.pressure
-    e_p = float(np.max(np.abs(contact_pressure(solution.pair, lam) - p), initial=0.0)) / p
+    if solution.pressures is None or solution.stress is None or solution.nodal_pressure is None:
+        raise ValueError("the case is not solvable: it has no errors")
+    comm = solution.pair.Q.mesh.comm
+
+    def worst(values: npt.NDArray, exact: float | npt.NDArray = p) -> float:
+        local = float(np.max(np.abs(values - exact), initial=0.0)) / p
+        return comm.allreduce(local, op=MPI.MAX)
+
+    e_f = max(worst(v) for v in solution.nodal_pressure.values())
+    e_p = max(
+        worst(contact_pressure(pair, lam))
+        for pair, lam in zip(solution.pairs, solution.pressures, strict=True)
+    )
+    if len(solution.pairs) > 1:
+        e_p = e_f
     exact = np.array([0.0, 0.0, 0.0, -p])
-    e_s = 0.0
-    for s in solution.stress.values():
-        values = s.x.array.reshape(-1, 4)
-        e_s = max(e_s, float(np.max(np.abs(values - exact), initial=0.0)) / p)
-    comm = lam.function_space.mesh.comm
-    return comm.allreduce(e_p, op=MPI.MAX), comm.allreduce(e_s, op=MPI.MAX)
+    e_s = max(worst(s.x.array.reshape(-1, 4), exact) for s in solution.stress.values())
+    return PatchTestErrors(e_p, e_s, e_f)

@@ -132,6 +132,19 @@ def assemble_coupling(pair: ContactPair) -> tuple[PETSc.Mat, PETSc.Mat, PETSc.Ve
     return B[0], B[1], G
 
 
+def _active_rows(pair: ContactPair, G: PETSc.Vec) -> PETSc.Vec:
+    """1 for the active multipliers of a pair, 0 for those in ``pair.inactive``."""
+    active = G.duplicate()
+    active.set(1.0)
+    active.setValues(
+        pair.inactive.astype(PETSc.IntType),
+        np.zeros(pair.inactive.size),
+        addv=PETSc.InsertMode.INSERT_VALUES,
+    )
+    active.assemble()
+    return active
+
+
 def _space(form: ufl.Form) -> dolfinx.fem.FunctionSpace:
     return form.arguments()[0].ufl_function_space()
 
@@ -223,12 +236,16 @@ class ContactProblem:
 
         self._G = []
         self._B = []
+        self.constraints: list[tuple[PETSc.Mat, PETSc.Mat]] = []
         for j, pair in enumerate(self.pairs):
             B_c, B_t, G = assemble_coupling(pair)
+            active = _active_rows(pair, G)
+            G.pointwiseMult(G, active)
             for Bi, V in ((B_c, pair.contactor.V), (B_t, pair.target.V)):
                 i = body(V)
                 x_bc, keep = self._dirichlet_vectors(i)
                 # -B U = G with U = U_free + U_D  =>  -B U_free = G + B U_D.
+                Bi.diagonalScale(active, None)
                 Bi.multAdd(x_bc, G, G)
                 Bi.diagonalScale(None, keep)
                 Bi.scale(-1.0)
@@ -239,6 +256,23 @@ class ContactProblem:
                 self._B.extend([Bi, Bt])
                 x_bc.destroy()
                 keep.destroy()
+            self.constraints.append(
+                (blocks[nb + j][body(pair.contactor.V)], blocks[nb + j][body(pair.target.V)])
+            )
+            if pair.inactive.size:
+                # Inactive multipliers: the row reads lambda_i = 0.
+                D = PETSc.Mat().createAIJ(
+                    [[G.getLocalSize(), G.getSize()]] * 2, nnz=(1, 0), comm=comm
+                )
+                inactive = active.duplicate()
+                inactive.set(1.0)
+                inactive.axpy(-1.0, active)
+                D.setDiagonal(inactive)
+                D.assemble()
+                blocks[nb + j][nb + j] = D
+                self._B.append(D)
+                inactive.destroy()
+            active.destroy()
             self._G.append(G)
 
         self._nest = PETSc.Mat().createNest(blocks, comm=comm)
@@ -313,6 +347,27 @@ class ContactProblem:
             self.x.restoreSubVector(is_, sub)
             f.x.scatter_forward()
         return self.u, self.pressure
+
+    def contact_forces(self) -> list[dolfinx.fem.Function]:
+        r"""Nodal contact force on every body, :math:`\sum_j \mathbf B_{j,i}^T \Lambda_j`.
+
+        Call after :meth:`solve`. Dirichlet dofs carry no contact force.
+        """
+        forces = []
+        nb = len(self.spaces)
+        for i, V in enumerate(self.spaces):
+            f = dolfinx.fem.Function(V, name=f"contact_force{i}")
+            for j, lam in enumerate(self.pressure):
+                block = self._nest.getNestSubMatrix(i, nb + j)
+                if block.handle == 0:
+                    continue
+                y = block.createVecLeft()
+                block.mult(lam.x.petsc_vec, y)
+                f.x.array[: y.getLocalSize()] -= y.array_r
+                y.destroy()
+            f.x.scatter_forward()
+            forces.append(f)
+        return forces
 
     def destroy(self) -> None:
         """Destroy the PETSc objects held by the problem."""
