@@ -171,3 +171,65 @@ def test_box_pairs_equals_brute_force():
         assert set(zip(ia.tolist(), ib.tolist(), strict=True)) == set(
             zip(*np.nonzero(overlap), strict=True)
         )
+
+
+@pytest.mark.parametrize("quadrature", ["composite-gauss", "composite-newton-cotes"])
+def test_hand_computed_block(quadrature):
+    """One linear contactor segment [0, 1] against two target segments [0, 1/2], [1/2, 1].
+
+    Multiplier mu_0 = 1 - x, mu_1 = x; target hats A (at 0), B (at 1/2), C (at 1); N = e_y.
+    Closed forms, integrating the piecewise polynomials by hand:
+        int mu_0 A = int_0^{1/2} (1 - x)(1 - 2x) dx                       = 5/24
+        int mu_0 B = int_0^{1/2} (1 - x) 2x dx + int_{1/2}^1 2(1 - x)^2 dx = 1/4
+        int mu_0 C = int_{1/2}^1 (1 - x)(2x - 1) dx                       = 1/24
+    and mu_1 by symmetry; the contactor block is the 1D mass matrix [[1/3, 1/6], [1/6, 1/3]].
+    """
+    comm = MPI.COMM_WORLD
+    H = 0.5
+    # DOLFINx's rectangles put the nodes exactly at i/n (Gmsh is ~1e-12 off).
+    spaces, surf = {}, {}
+    for name, y0, nx, side in (("lower", 0.0, 2, H), ("upper", H, 1, H)):
+        mesh = dolfinx.mesh.create_rectangle(
+            comm, [[0.0, y0], [1.0, y0 + H]], [nx, 1], dolfinx.mesh.CellType.quadrilateral
+        )
+        facets = dolfinx.mesh.locate_entities_boundary(
+            mesh, 1, lambda x, s=side: np.isclose(x[1], s)
+        )
+        tags = dolfinx.mesh.meshtags(mesh, 1, facets, np.full(facets.size, 7, dtype=np.int32))
+        spaces[name] = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
+        surf[name] = contact_surface(spaces[name], tags, 7)
+    pair = contact_pair(surf["upper"], surf["lower"], quadrature=quadrature)
+    B_c, B_t, G = assemble_coupling(pair)
+    Bc, Bt = gather_dense(B_c), gather_dense(B_t)
+    for obj in (B_c, B_t, G):
+        obj.destroy()
+
+    xq = _dof_coordinates(pair.Q)[:, 0]
+    rows = np.argsort(xq)  # multiplier at x = 0, then x = 1
+
+    def contact_columns(V):
+        """y-dofs of the nodes on y = H, ordered by x; x-dofs of the same nodes."""
+        imap = V.dofmap.index_map
+        coords = V.tabulate_dof_coordinates()[: imap.size_local]
+        parts = comm.allgather((imap.local_range[0], coords))
+        x = np.zeros((imap.size_global, 3))
+        for start, c in parts:
+            x[start : start + c.shape[0]] = c
+        on = np.flatnonzero(np.isclose(x[:, 1], H))
+        on = on[np.argsort(x[on, 0])]
+        return 2 * on + 1, 2 * on, x[on, 0]
+
+    y_t, x_t, pos_t = contact_columns(spaces["lower"])
+    y_c, x_c, pos_c = contact_columns(spaces["upper"])
+    np.testing.assert_allclose(pos_t, [0.0, 0.5, 1.0], atol=1e-12)
+    np.testing.assert_allclose(pos_c, [0.0, 1.0], atol=1e-12)
+
+    exact_t = -np.array([[5, 6, 1], [1, 6, 5]]) / 24  # B_T = -int mu v_T . N
+    exact_c = np.array([[2, 1], [1, 2]]) / 6
+    tol = 10 * np.finfo(float).eps
+    np.testing.assert_allclose(Bt[np.ix_(rows, y_t)], exact_t, rtol=0, atol=tol)
+    np.testing.assert_allclose(Bc[np.ix_(rows, y_c)], exact_c, rtol=0, atol=tol)
+    # Nothing else: no tangential coupling, no other dofs.
+    assert np.abs(Bt).sum() == pytest.approx(np.abs(exact_t).sum(), abs=tol)
+    assert np.abs(Bc).sum() == pytest.approx(np.abs(exact_c).sum(), abs=tol)
+    assert np.max(np.abs(Bt[:, x_t]), initial=0.0) < tol
