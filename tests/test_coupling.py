@@ -233,3 +233,4 @@ def test_hand_computed_block(quadrature):
     assert np.abs(Bt).sum() == pytest.approx(np.abs(exact_t).sum(), abs=tol)
     assert np.abs(Bc).sum() == pytest.approx(np.abs(exact_c).sum(), abs=tol)
     assert np.max(np.abs(Bt[:, x_t]), initial=0.0) < tol
+    assert np.max(np.abs(Bc[:, x_c]), initial=0.0) < tol
