@@ -3,6 +3,8 @@
 ENV_RUN := scripts/env-run
 MPIRUN  := mpirun -n 2
 PYTEST  := python3 -m pytest -q -p no:cacheprovider
+# A bug that raises on one rank only leaves the others in a collective: fail, don't hang.
+TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
 .PHONY: demo test check lint package test-serial test-mpi smoke env clean
@@ -44,16 +46,16 @@ package:
 
 test-serial:
 	@echo "== [$(SUITE)] tests, 1 rank"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(PYTEST) tests
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(PYTEST) tests
 
 test-mpi:
 	@echo "== [$(SUITE)] tests, 2 ranks"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(MPIRUN) python3 -m mpi4py -m pytest -q -p no:cacheprovider tests
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 -m mpi4py -m pytest -q -p no:cacheprovider tests
 
 smoke:
 	@echo "== [$(SUITE)] demos, smoke run"
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:

@@ -422,7 +422,7 @@ class ContactPair:
         s_sub = np.where(self._flip[rows], 1.0 - xi, xi)
         mu = tabulate(self.multiplier_element, 0, s_sub[:, None])[0]
         w = (np.tile(w_ref, n) * np.linalg.norm(dx, axis=1))[:, None] * mu
-        return w.reshape(n, s_ref.size, -1).sum(axis=1)
+        return w.reshape(n, s_ref.size, mu.shape[1]).sum(axis=1)
 
     def integration_points(
         self, target_data: SurfaceData | None = None

@@ -31,6 +31,7 @@ if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.stability import Solvability
 
 __all__ = [
+    "DISCRETIZATIONS",
     "MATERIALS",
     "PatchTestCase",
     "PatchTestErrors",
@@ -38,7 +39,9 @@ __all__ = [
     "contact_pressure",
     "errors",
     "exact_displacement",
+    "paper_verdict",
     "solve_patch_test",
+    "study_cases",
 ]
 
 #: Materials of the lower and upper block; they differ on purpose.
@@ -305,3 +308,93 @@ def errors(solution: PatchTestSolution) -> PatchTestErrors:
     exact = np.array([0.0, 0.0, 0.0, -p])
     e_s = max(worst(s.x.array.reshape(-1, 4), exact) for s in solution.stress.values())
     return PatchTestErrors(e_p, e_s, e_f)
+
+
+#: The discretizations of the study: a label and the :class:`PatchTestCase` options.
+DISCRETIZATIONS: dict[str, dict] = {
+    "S2S composite Gauss": {"quadrature": "composite-gauss"},
+    "S2S composite Newton-Cotes": {"quadrature": "composite-newton-cotes"},
+    # Fig. 15(a): second-order Gauss; its Newton-Cotes sibling is the trapezoidal rule.
+    "S2S Gauss (Fig. 15a)": {"quadrature": "gauss", "quadrature_points": 2},
+    "S2S Newton-Cotes (Fig. 15a)": {"quadrature": "newton-cotes", "quadrature_points": 2},
+    "NTS, w = 1": {"method": "node-to-segment", "weight": "unit"},
+    "NTS, tributary w": {"method": "node-to-segment", "weight": "tributary"},
+    "NTS at Gauss points": {"method": "node-to-segment-gauss"},
+    "two-pass NTS": {"method": "two-pass node-to-segment"},
+    "node-to-node": {"method": "node-to-node"},
+}
+
+#: Multiplier spaces of Eq. (16) tried with composite S2S besides the default
+#: :math:`\mathcal M^1_{h,k}`, for contactor degree ``k``.
+EXTRA_MULTIPLIERS: dict[int, list[tuple[str, int]]] = {
+    1: [("DG", 0), ("DG", 1)],
+    2: [("DG", 0), ("Lagrange", 1), ("DG", 1), ("DG", 2)],
+}
+
+#: Degrees (lower, upper): linear on linear, quadratic on quadratic, linear on quadratic
+#: (Fig. 6(b)-(d)).
+DEGREES = ((1, 1), (2, 2), (2, 1))
+
+#: Elements along the contact (lower, upper): non-nested, nested and matching.
+RATIOS = ((10, 7), (7, 10), (10, 5), (3, 8), (10, 10))
+
+
+def nested(elements: tuple[int, int]) -> bool:
+    """Whether the nodes of one surface are among those of the other (e.g. 10/5, 10/10)."""
+    a, b = elements
+    return a % b == 0 or b % a == 0
+
+
+def paper_verdict(label: str, case: PatchTestCase) -> str:
+    """What the paper says of a case: ``"pass"``, ``"fail"`` or ``"either"``.
+
+    Composite S2S passes whatever the meshes with the stable multiplier spaces of
+    Tables 1-2 (section 5). Node-to-segment
+    (section 4.2) and non-composite S2S (Fig. 15(a)) fail on meshes whose nodes do not
+    nest. Two-pass node-to-segment passes for linear elements and fails for quadratic
+    ones (section 4.3, Fig. 12). Node-to-node passes on matching meshes (section 4.1).
+    On nested meshes any method may pass by coincidence (cf. Fig. 11).
+    """
+    matching = case.elements[0] == case.elements[1]
+    if label.startswith("S2S composite"):
+        k = case.degrees[0] if case.contactor == "lower" else case.degrees[1]
+        family, degree = case.multiplier or ("Lagrange", k)
+        continuous = family == "Lagrange"
+        # Tables 1-2: the stable multiplier spaces.
+        stable = (continuous and degree >= 1) or (k == 2 and degree == 0)
+        return "pass" if stable else "either"
+    if label == "node-to-node":
+        return "pass" if matching else "either"
+    if label == "two-pass NTS":
+        if case.degrees == (1, 1):
+            return "pass"
+        if case.degrees == (2, 2) and not nested(case.elements):
+            return "fail"
+        return "either"
+    return "either" if nested(case.elements) else "fail"
+
+
+def study_cases(
+    cells: tuple[str, ...] = ("triangle", "quadrilateral"),
+    ratios: tuple[tuple[int, int], ...] = RATIOS,
+) -> list[tuple[str, PatchTestCase]]:
+    """The patch-test matrix: every discretization, multiplier, mesh and contactor."""
+    out = []
+    for degrees in DEGREES:
+        for cell in cells:
+            for elements in ratios:
+                for contactor in ("upper", "lower"):
+                    base = {"degrees": degrees, "cell": cell, "elements": elements}
+                    base["contactor"] = contactor
+                    k = degrees[0] if contactor == "lower" else degrees[1]
+                    for label, options in DISCRETIZATIONS.items():
+                        if label == "node-to-node" and (
+                            elements[0] != elements[1] or degrees[0] != degrees[1]
+                        ):
+                            continue
+                        out.append((label, PatchTestCase(**base, **options)))
+                    for multiplier in EXTRA_MULTIPLIERS[k]:
+                        out.append(
+                            ("S2S composite Gauss", PatchTestCase(**base, multiplier=multiplier))
+                        )
+    return out

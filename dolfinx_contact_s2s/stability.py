@@ -28,10 +28,13 @@ class Solvability:
     Attributes:
         constraints: Number :math:`n` of active multipliers.
         rank: Numerical rank of :math:`\mathbf B`.
+        condition: :math:`\sigma_{max} / \sigma_{min}` of :math:`\mathbf B` (infinite if
+            rank deficient).
     """
 
     constraints: int
     rank: int
+    condition: float = np.inf
 
     @property
     def redundant(self) -> int:
@@ -71,4 +74,6 @@ def solvability(problem: ContactProblem) -> Solvability:
     B = constraint_matrix(problem)
     s = scipy.linalg.svdvals(B)
     tol = (s.max(initial=0.0)) * max(B.shape) * np.finfo(float).eps
-    return Solvability(B.shape[0], int(np.count_nonzero(s > tol)))
+    rank = int(np.count_nonzero(s > tol))
+    condition = s.max() / s.min() if rank == B.shape[0] and rank > 0 else np.inf
+    return Solvability(B.shape[0], rank, float(condition))
