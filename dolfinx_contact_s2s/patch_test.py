@@ -20,6 +20,7 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import numpy.typing as npt
+import scipy.linalg
 import ufl
 
 from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
@@ -33,12 +34,15 @@ if typing.TYPE_CHECKING:
 __all__ = [
     "DISCRETIZATIONS",
     "MATERIALS",
+    "PASS_TOLERANCE",
     "PatchTestCase",
     "PatchTestErrors",
     "PatchTestSolution",
+    "case_record",
     "contact_pressure",
     "errors",
     "exact_displacement",
+    "force_transfer",
     "paper_verdict",
     "solve_patch_test",
     "study_cases",
@@ -398,3 +402,101 @@ def study_cases(
                             ("S2S composite Gauss", PatchTestCase(**base, multiplier=multiplier))
                         )
     return out
+
+
+def case_record(label: str, case: PatchTestCase, solution: PatchTestSolution) -> dict:
+    """JSON record of a solved (or unsolvable) case, with the paper's verdict beside it."""
+    rec = case.record()
+    rec["discretization"] = label
+    rec["method"] = label
+    rec["multiplier"] = solution.pair.multiplier_label
+    rec["paper"] = paper_verdict(label, case)
+    rec["ranks"] = solution.pair.Q.mesh.comm.size
+    check = solution.solvability
+    rec.update(constraints=check.constraints, redundant=check.redundant, solvable=check.solvable)
+    rec["condition"] = check.condition if np.isfinite(check.condition) else None
+    if check.solvable:
+        err = errors(solution)
+        rec.update(
+            pressure_error=err.pressure,
+            stress_error=err.stress,
+            force_error=err.force,
+            passed=bool(max(err.pressure, err.stress) <= PASS_TOLERANCE),
+        )
+    else:
+        rec.update(pressure_error=None, stress_error=None, force_error=None, passed=False)
+    outcome = "pass" if rec["passed"] else "fail"
+    rec["agrees"] = rec["paper"] in ("either", outcome)
+    return rec
+
+
+#: Largest pressure and stress error of a passing case.
+PASS_TOLERANCE = 1e-10
+
+
+def _gather_owned(comm: MPI.Comm, start: int, values: npt.NDArray, size: int) -> npt.NDArray:
+    """A distributed array (owned blocks at ``start``) whole on every process."""
+    out = np.zeros((size, *values.shape[1:]))
+    for s, v in comm.allgather((start, values)):
+        out[s : s + v.shape[0]] = v
+    return out
+
+
+def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
+    r"""Nodal forces transmitted to the target by the exact contactor forces (Fig. 9).
+
+    The contactor receives its consistent nodal forces :math:`\mathbf f_C = p \int \phi
+    \mathbf N = -p \int \phi \mathbf n_C`; the multipliers reproducing them solve :math:`\mathbf B_C^T \Lambda =
+    \mathbf f_C` (least squares), and the target then receives :math:`\mathbf B_T^T
+    \Lambda`, against its consistent forces :math:`-p \int \phi \mathbf n_T`.
+
+    Returns:
+        ``x`` of the target's contact nodes, their ``consistent`` and ``transmitted``
+        vertical forces.
+    """
+    from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
+
+    comm = MPI.COMM_WORLD
+    scene = patch_test(comm, case.elements, cell=case.cell)
+    target_name = "lower" if case.contactor == "upper" else "upper"
+    spaces = {
+        n: dolfinx.fem.functionspace(scene.bodies[n].mesh, ("Lagrange", k, (2,)))
+        for n, k in zip(("lower", "upper"), case.degrees, strict=True)
+    }
+    surfaces = {
+        n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()
+    }
+    pair = contact_pairs(surfaces[case.contactor], surfaces[target_name], **case.pair_options())
+    B_c, B_t, G = assemble_coupling(pair[0])
+    Bc, Bt = gather_dense(B_c), gather_dense(B_t)
+    for obj in (B_c, B_t, G):
+        obj.destroy()
+
+    def consistent(name: str) -> tuple[npt.NDArray, npt.NDArray]:
+        """Consistent nodal force -p int phi n and the dof coordinates, whole."""
+        V, body = spaces[name], scene.bodies[name]
+        v, n = ufl.TestFunction(V), ufl.FacetNormal(V.mesh)
+        ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=body.facet_tags)
+        f = dolfinx.fem.assemble_vector(
+            dolfinx.fem.form(-case.pressure * ufl.inner(n, v) * ds(body.contact))
+        )
+        f.scatter_reverse(dolfinx.la.InsertMode.add)
+        imap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+        owned = imap.size_local
+        start = imap.local_range[0]
+        forces = _gather_owned(comm, start, f.array[: owned * bs].reshape(-1, bs), imap.size_global)
+        x = _gather_owned(comm, start, V.tabulate_dof_coordinates()[:owned], imap.size_global)
+        return forces.reshape(-1), x
+
+    f_c, _ = consistent(case.contactor)
+    f_t, x_t = consistent(target_name)
+    # B_C^T Lambda is the contact force on the contactor, p int phi N = -p int phi n_C.
+    lam = scipy.linalg.lstsq(Bc.T, f_c)[0]
+    transmitted = Bt.T @ lam
+    on = np.flatnonzero(np.abs(f_t[1::2]) > 0)
+    order = on[np.argsort(x_t[on, 0])]
+    return {
+        "x": x_t[order, 0],
+        "consistent": f_t[1::2][order],
+        "transmitted": transmitted[1::2][order],
+    }

@@ -15,12 +15,14 @@ Nested meshes (10/5, 10/10) may pass by coincidence (Fig. 11) and are only repor
 from mpi4py import MPI
 
 import dolfinx
+import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.patch_test import (
     PatchTestCase,
     errors,
+    force_transfer,
     paper_verdict,
     solve_patch_test,
     study_cases,
@@ -89,3 +91,30 @@ def test_nested_meshes_can_pass_by_coincidence():
     case = PatchTestCase(elements=(10, 5), contactor="lower", method="node-to-segment")
     err = errors(solve_patch_test(MPI.COMM_WORLD, case))
     assert max(err.pressure, err.stress) <= PASS
+
+
+def test_force_transfer_fig9():
+    """Fig. 9: consistent contactor forces reach the target exactly with composite S2S;
+    node-to-segment (w = 1) hands each contactor nodal force to the target nodes by linear
+    interpolation at its projection (the lever rule), which is not consistent.
+    """
+    p, (n_lower, n_upper) = 1.0, (10, 7)
+    s2s = force_transfer(PatchTestCase(elements=(n_lower, n_upper), contactor="lower"))
+    np.testing.assert_allclose(s2s["transmitted"], s2s["consistent"], rtol=0, atol=1e-14)
+    # Consistent forces on a uniform mesh of n elements: p h, halved at the two ends
+    # (Gmsh places the nodes within ~1e-12 of uniform).
+    h_t = 1.0 / n_upper
+    expected = np.full(n_upper + 1, p * h_t)
+    expected[[0, -1]] /= 2
+    np.testing.assert_allclose(s2s["consistent"], expected, rtol=0, atol=1e-11)
+
+    nts = force_transfer(
+        PatchTestCase(elements=(n_lower, n_upper), contactor="lower", method="node-to-segment")
+    )
+    x_c = np.linspace(0.0, 1.0, n_lower + 1)
+    f_c = np.full(x_c.size, p / n_lower)
+    f_c[[0, -1]] /= 2
+    x_t = np.linspace(0.0, 1.0, n_upper + 1)
+    lever = [np.sum(f_c * np.interp(x_c, x_t, np.eye(x_t.size)[j])) for j in range(x_t.size)]
+    np.testing.assert_allclose(nts["transmitted"], lever, rtol=0, atol=1e-11)
+    assert np.max(np.abs(nts["transmitted"] - nts["consistent"])) > 1e-3
