@@ -446,8 +446,8 @@ def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
     r"""Nodal forces transmitted to the target by the exact contactor forces (Fig. 9).
 
     The contactor receives its consistent nodal forces :math:`\mathbf f_C = p \int \phi
-    \mathbf N = -p \int \phi \mathbf n_C`; the multipliers reproducing them solve :math:`\mathbf B_C^T \Lambda =
-    \mathbf f_C` (least squares), and the target then receives :math:`\mathbf B_T^T
+    \mathbf N = -p \int \phi \mathbf n_C`; the multipliers reproducing them solve
+    :math:`\mathbf B_C^T \Lambda = \mathbf f_C` (least squares), and the target then receives :math:`\mathbf B_T^T
     \Lambda`, against its consistent forces :math:`-p \int \phi \mathbf n_T`.
 
     Returns:
