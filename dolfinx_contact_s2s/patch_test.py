@@ -447,8 +447,9 @@ def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
 
     The contactor receives its consistent nodal forces :math:`\mathbf f_C = p \int \phi
     \mathbf N = -p \int \phi \mathbf n_C`; the multipliers reproducing them solve
-    :math:`\mathbf B_C^T \Lambda = \mathbf f_C` (least squares), and the target then receives :math:`\mathbf B_T^T
-    \Lambda`, against its consistent forces :math:`-p \int \phi \mathbf n_T`.
+    :math:`\mathbf B_C^T \Lambda = \mathbf f_C` (least squares), and the target then
+    receives :math:`\mathbf B_T^T \Lambda`, against its consistent forces
+    :math:`-p \int \phi \mathbf n_T`.
 
     Returns:
         ``x`` of the target's contact nodes, their ``consistent`` and ``transmitted``
