@@ -45,6 +45,7 @@ __all__ = [
     "force_transfer",
     "paper_verdict",
     "solve_patch_test",
+    "stress_component_errors",
     "study_cases",
 ]
 
@@ -501,3 +502,17 @@ def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
         "consistent": f_t[1::2][order],
         "transmitted": transmitted[1::2][order],
     }
+
+
+def stress_component_errors(solution: PatchTestSolution) -> tuple[float, float]:
+    r"""Fig. 10's measures: :math:`\max |\sigma_x| / p` and :math:`\max |\sigma_y + p| / p`."""
+    if solution.stress is None:
+        raise ValueError("the case is not solvable: it has no stresses")
+    p = solution.case.pressure
+    ex = ey = 0.0
+    for s in solution.stress.values():
+        sig = s.x.array.reshape(-1, 4)
+        ex = max(ex, float(np.max(np.abs(sig[:, 0]), initial=0.0)) / p)
+        ey = max(ey, float(np.max(np.abs(sig[:, 3] + p), initial=0.0)) / p)
+    comm = solution.pair.Q.mesh.comm
+    return comm.allreduce(ex, op=MPI.MAX), comm.allreduce(ey, op=MPI.MAX)
