@@ -50,7 +50,13 @@ __all__ = [
 
 #: Contact discretizations of a single pair (sections 4 and 5); see also
 #: :func:`contact_pairs` for the two-pass method.
-METHODS = ("segment-to-segment", "node-to-segment", "node-to-segment-gauss", "node-to-node")
+METHODS = (
+    "segment-to-segment",
+    "node-to-segment",
+    "node-to-segment-gauss",
+    "node-to-node",
+    "intermediate-surface",
+)
 
 
 @dataclass(frozen=True)
@@ -144,6 +150,10 @@ class ContactPair:
       contactor segments, with one multiplier per point [21, 22].
     - ``"node-to-node"`` (Eq. 37): node-to-segment with unit weights on meshes whose
       nodes coincide; other meshes raise :class:`ValueError`.
+    - ``"intermediate-surface"`` (section 4.4, Fig. 13, for linear 2D surfaces [24]): the
+      nodes of both surfaces are projected onto a surface midway between them; one
+      constant pressure per segment between projected nodes, integrated exactly there.
+      The multiplier lives on a mesh of those segments.
     """
 
     def __init__(
@@ -221,8 +231,15 @@ class ContactPair:
             raise ValueError("a continuous multiplier needs degree 1 or more")
         if nodal and (not continuous or degree != k_c):
             raise ValueError(f"{method} puts one multiplier on every contactor node")
-        if method == "node-to-segment-gauss" and multiplier is not None:
-            raise ValueError("node-to-segment-gauss has one multiplier per Gauss point")
+        if method in ("node-to-segment-gauss", "intermediate-surface") and multiplier is not None:
+            raise ValueError(f"{method} defines its own multiplier space")
+        if method == "intermediate-surface":
+            linear = (contactor.element.degree, target.element.degree) == (1, 1)
+            if not linear or contactor.cmap.degree != 1 or target.cmap.degree != 1:
+                raise ValueError("the intermediate contact surface is for linear 2D surfaces")
+            if quadrature != "composite-gauss":
+                raise ValueError("the intermediate surface integrates its own segments exactly")
+            family, degree = "DG", 0
 
         curved = contactor.cmap.degree - 1 + target.cmap.degree - 1
         k_u = max(k_c, target.element.degree)
@@ -246,13 +263,18 @@ class ContactPair:
         #: Global multiplier dofs whose constraint is left out (the multiplier is zero).
         self.inactive = np.empty(0, dtype=np.int64)
         self._search_radius = search_radius
-        self._build_multiplier_space(degree, not continuous, variant)
+        if method == "intermediate-surface":
+            self._build_intermediate_space()
+        else:
+            self._build_multiplier_space(degree, not continuous, variant)
 
     @property
     def multiplier_label(self) -> str:
         r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
         if self.method == "node-to-segment-gauss":
             return "point values"
+        if self.method == "intermediate-surface":
+            return "M^0_{h,0} (intermediate)"
         return f"M^{int(self.multiplier_continuous)}_{{h,{self.multiplier_degree}}}"
 
     def _build_multiplier_space(
@@ -290,6 +312,45 @@ class ContactPair:
         _, x0, _ = self.contactor.evaluate(data, rows, np.zeros(rows.size))
         sub_x = submesh.geometry.x[geometry_dofmap(submesh)[self._sub_cells, 0], : x0.shape[1]]
         self._flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (1.0 + np.linalg.norm(x0, axis=1))
+
+    def _intermediate_points(
+        self, seg: SubSegments, T: SurfaceData, xi: npt.NDArray[np.floating]
+    ) -> npt.NDArray[np.floating]:
+        """Points midway between contactor points and their target points (Fig. 13)."""
+        cs, C = self.contactor, self.contactor.data
+        rows = np.repeat(seg.contactor, xi.size // max(len(seg), 1))
+        X, x, _ = cs.evaluate(C, rows, xi)
+        t_rows = np.repeat(seg.target, xi.size // max(len(seg), 1))
+        eta = np.clip(self.target.intersect(T, t_rows, x, -cs.outward_normals(C, rows, X)), 0, 1)
+        _, x_t, _ = self.target.evaluate(T, t_rows, eta)
+        return 0.5 * (x + x_t)
+
+    def _build_intermediate_space(self) -> None:
+        """A mesh of the intermediate segments and a piecewise-constant multiplier on it."""
+        comm = self.contactor.comm
+        T = self.target.gather()
+        seg = self.sub_segments(T)
+        n = len(seg)
+        ends = np.stack([seg.lo, seg.hi], axis=1).reshape(-1)
+        x = self._intermediate_points(seg, T, ends)
+        offset = comm.exscan(n) or 0
+        cells = (2 * offset + np.arange(2 * n, dtype=np.int64)).reshape(n, 2)
+        gdim = x.shape[1]
+        coordinate = basix.ufl.element("Lagrange", "interval", 1, shape=(gdim,))
+        mesh = dolfinx.mesh.create_mesh(comm, cells=cells, x=x, e=coordinate)
+        self.multiplier_element = basix.ufl.element("DG", "interval", 0)
+        self.Q = dolfinx.fem.functionspace(mesh, self.multiplier_element)
+        self.submesh = mesh
+        # DOLFINx redistributes the cells: find each segment's multiplier dof again.
+        original = np.asarray(mesh.topology.original_cell_index, dtype=np.int64)
+        imap = self.Q.dofmap.index_map
+        dofs = imap.local_to_global(self.Q.dofmap.list[: original.size, 0].astype(np.int32))
+        lookup = np.empty(comm.allreduce(n), dtype=np.int64)
+        for orig, gdofs in comm.allgather((original, dofs)):
+            lookup[orig] = gdofs
+        self._segments = seg
+        self._segment_rows = lookup[offset + np.arange(n)]
+        self._flip = np.zeros(len(self.contactor.data), dtype=bool)
 
     @property
     def search_radius(self) -> float:
@@ -437,6 +498,16 @@ class ContactPair:
         """
         cs, C = self.contactor, self.contactor.data
         T = self.target.gather() if target_data is None else target_data
+        if self.method == "intermediate-surface":
+            # Integrated on the intermediate segments, which map linearly onto the
+            # contactor's sub-segments.
+            seg = self._segments
+            s_ref, w_ref = self._rule
+            xi = seg.lo[:, None] + (seg.hi - seg.lo)[:, None] * s_ref[None, :]
+            ends = self._intermediate_points(seg, T, np.stack([seg.lo, seg.hi], axis=1).reshape(-1))
+            ends = ends.reshape(len(seg), 2, ends.shape[1])
+            length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+            return seg.contactor, seg.target, xi, length[:, None] * w_ref[None, :]
         if self.method == "segment-to-segment" and self.quadrature.startswith("composite-"):
             seg = self.sub_segments(T)
             s_ref, w_ref = self._rule
@@ -527,9 +598,12 @@ class ContactPair:
             gaps.reshape(S, nq),
         )
 
-        qmap = self.Q.dofmap
-        local_rows = qmap.list[self._sub_cells[c_rows]]
-        rows = qmap.index_map.local_to_global(local_rows.reshape(-1)).reshape(local_rows.shape)
+        if self.method == "intermediate-surface":
+            rows = self._segment_rows[:, None]
+        else:
+            qmap = self.Q.dofmap
+            local_rows = qmap.list[self._sub_cells[c_rows]]
+            rows = qmap.index_map.local_to_global(local_rows.reshape(-1)).reshape(local_rows.shape)
         return CouplingBlocks(rows.astype(np.int64), C.dofs[c_rows], T.dofs[t_rows], b_c, b_t, g)
 
 

@@ -8,6 +8,7 @@
 - node-to-segment and non-composite S2S (Fig. 15(a)) fail on meshes whose nodes do not
   nest (10/7, 7/10, 3/8);
 - two-pass node-to-segment passes for linear elements and fails for quadratic ones;
+- the intermediate contact surface passes for linear elements;
 - node-to-node passes on matching meshes and does not apply to others.
 Nested meshes (10/5, 10/10) may pass by coincidence (Fig. 11) and are only reported.
 """
@@ -62,8 +63,14 @@ def test_paper_verdict(item):
     err = errors(sol)
     worst = max(err.pressure, err.stress)
     if verdict == "pass":
-        assert worst <= PASS
+        assert err.stress <= PASS
         assert err.force <= PASS
+        if label != "intermediate surface":
+            assert err.pressure <= PASS
+        else:
+            # Overconstrained (section 4.4): exact tractions, but short segments between
+            # nearby nodes of the two surfaces make B ill-conditioned.
+            assert err.pressure <= PASS * max(1.0, sol.solvability.condition)
     elif label.startswith("S2S composite"):
         # Unstable but solvable multiplier spaces (Tables 1-2) still transmit the
         # pressure exactly; their multipliers carry round-off amplified by cond(B),
