@@ -114,14 +114,14 @@ class ContactSurface:
         mesh.topology.create_connectivity(tdim, fdim)
         f_to_c = mesh.topology.connectivity(fdim, tdim)
         c_to_f = mesh.topology.connectivity(tdim, fdim)
-        cells = np.empty(facets.size, dtype=np.int32)
-        local_facet = np.empty(facets.size, dtype=np.int32)
-        for i, f in enumerate(facets):
-            linked = f_to_c.links(f)
-            if linked.size != 1:
-                raise ValueError(f"contact facets must be on the boundary (tag {tag})")
-            cells[i] = linked[0]
-            local_facet[i] = np.flatnonzero(c_to_f.links(linked[0]) == f)[0]
+        num_links = f_to_c.offsets[facets + 1] - f_to_c.offsets[facets]
+        interior = comm.allreduce(int(np.count_nonzero(num_links != 1)), op=MPI.SUM)
+        if interior:
+            raise ValueError(f"contact facets must be on the boundary (tag {tag})")
+        cells = f_to_c.array[f_to_c.offsets[facets]].astype(np.int32)
+        facets_per_cell = len(basix.topology(basix.CellType[cell_name])[fdim])
+        cell_facets = c_to_f.array.reshape(-1, facets_per_cell)[cells]
+        local_facet = np.argmax(cell_facets == facets[:, None], axis=1).astype(np.int32)
 
         gdim = mesh.geometry.dim
         x_dofs = geometry_dofmap(mesh)[cells]
