@@ -1,24 +1,27 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""Segment-to-segment coupling with composite quadrature (El-Abbasi & Bathe 2001, section 5).
+r"""Contact coupling blocks of every discretization of El-Abbasi & Bathe (2001).
 
 The contact integral of Eq. (17),
 
 .. math:: b(\mathbf v_h, \mu_h) = \int_{\Gamma_C} \mu_h\,
     [(\mathbf v_C - \mathbf v_T^*) \cdot \mathbf N + g_0]\, d\Gamma_C,
 
-is evaluated as in Eqs. (40)-(42): the contactor and target are both surfaces; the
-contactor facets are cut into *sub-segments* at the projections of the target's
-corner nodes (Fig. 15(b)), and every sub-segment is integrated with its own Gauss
-rule. On each sub-segment both the contactor and the target displacements are
-smooth, so the rule integrates Eq. (17) exactly for straight facets and polynomial
-fields: this is what passes the contact patch test (section 3.2). The multiplier
-lives in a DOLFINx function space on the contactor facets (Eq. 16, by default
-:math:`\mathcal M^1_{h,k}`, continuous and of the displacement degree :math:`k`),
-so its number of unknowns does not depend on the number of integration points.
+is evaluated as a weighted sum over contactor points, each paired with the target
+point met along the normal :math:`\mathbf N = -\mathbf n_C` (Eq. 38). The
+discretizations differ in the points, the weights and the multiplier space
+(:class:`ContactPair`): nodes with unit or tributary weights (node-to-node, Eq. 37;
+node-to-segment, Eq. 39), Gauss points of the contactor segments, or (the new
+algorithm, section 5, Eqs. 40-42) Gauss or Newton-Cotes points of *sub-segments*
+bounded by the nodes of both surfaces (Fig. 15(b)-(c)). On a sub-segment both
+displacements are smooth, so the composite rule integrates Eq. (17) exactly for
+straight facets and polynomial fields, which is what passes the contact patch test
+(section 3.2). The multiplier lives in a DOLFINx function space on the contactor
+facets (Eq. 16), so its number of unknowns does not depend on the number of
+integration points; the intermediate surface (section 4.4) has its own segment mesh.
 
-The work is split into array stages (candidate search, sub-segments, points,
-kernel), each a batch over all sub-segments of the process.
+The work is split into array stages (candidate search, sub-segments or target search,
+points, kernel), each a batch over all points of the process.
 """
 
 from __future__ import annotations
@@ -183,7 +186,8 @@ class ContactPair:
                 to ``"composite-gauss"`` (``"gauss"`` for ``node-to-segment-gauss``).
             quadrature_points: Points per (sub-)segment; defaults to the fewest Gauss
                 points that integrate Eq. (17) exactly on straight segments (plus one per
-                curved geometry degree), or the contactor degree plus one for Newton-Cotes.
+                curved geometry degree), or the multiplier degree plus the displacement
+                degree plus one for Newton-Cotes.
             weight: ``"unit"`` or ``"tributary"``, for ``node-to-segment``.
             search_radius: Largest normal distance at which facets are paired; defaults
                 to the largest facet size of either surface.
@@ -350,6 +354,7 @@ class ContactPair:
             lookup[orig] = gdofs
         self._segments = seg
         self._segment_rows = lookup[offset + np.arange(n)]
+        self._segment_lengths = np.linalg.norm(x[1::2] - x[0::2], axis=1)
         self._flip = np.zeros(len(self.contactor.data), dtype=bool)
 
     @property
@@ -504,10 +509,8 @@ class ContactPair:
             seg = self._segments
             s_ref, w_ref = self._rule
             xi = seg.lo[:, None] + (seg.hi - seg.lo)[:, None] * s_ref[None, :]
-            ends = self._intermediate_points(seg, T, np.stack([seg.lo, seg.hi], axis=1).reshape(-1))
-            ends = ends.reshape(len(seg), 2, ends.shape[1])
-            length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
-            return seg.contactor, seg.target, xi, length[:, None] * w_ref[None, :]
+            weights = self._segment_lengths[:, None] * w_ref[None, :]
+            return seg.contactor, seg.target, xi, weights
         if self.method == "segment-to-segment" and self.quadrature.startswith("composite-"):
             seg = self.sub_segments(T)
             s_ref, w_ref = self._rule

@@ -65,6 +65,8 @@ class PatchTestCase:
         geometry_degree: Degree of the cells' geometry.
         gap: Initial gap :math:`g_0`.
         pressure: Applied pressure :math:`p`.
+        method, multiplier, quadrature, quadrature_points, weight: The discretization,
+            as for :func:`~dolfinx_contact_s2s.contact_pairs`.
     """
 
     degrees: tuple[int, int] = (1, 1)
