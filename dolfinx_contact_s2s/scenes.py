@@ -21,7 +21,7 @@ import dolfinx
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 
-__all__ = ["Body", "PatchTestScene", "patch_test"]
+__all__ = ["Body", "PatchTestScene", "inf_sup_model", "patch_test"]
 
 #: Facet tags of a rectangular block.
 BOTTOM, RIGHT, TOP, LEFT = 1, 2, 3, 4
@@ -212,4 +212,44 @@ def patch_test(
         width,
         height,
         gap,
+    )
+
+
+def inf_sup_model(
+    comm: MPI.Comm,
+    elements: tuple[int, int] = (10, 7),
+    *,
+    cell: str = "quadrilateral",
+    geometry_degree: int = 1,
+    gap: float = -0.01,
+    width: float = 1.0,
+    height: float = 0.5,
+    msh_dir: str | Path | None = None,
+) -> PatchTestScene:
+    """The inf-sup model of Fig. 2: two blocks meshed independently, overlapping by ``-gap``.
+
+    The meshes refine uniformly with ``elements`` (about square cells), so that a family
+    of element counts is a family of meshes with decreasing :math:`h`. The paper
+    evaluates solvability and the inf-sup tests on this model (section 3.1) with a
+    negative initial gap :math:`g_0`.
+
+    Args:
+        comm: Communicator the meshes are distributed over.
+        elements: Elements along the contact line of the lower and the upper block.
+        cell: ``"triangle"`` or ``"quadrilateral"``.
+        geometry_degree: 1 or 2.
+        gap: Initial gap :math:`g_0`; negative (an overlap) as in the paper.
+        width: Width of both blocks.
+        height: Height of each block.
+        msh_dir: If given, rank 0 writes the Gmsh models there.
+    """
+    return patch_test(
+        comm,
+        elements,
+        cell=cell,
+        geometry_degree=geometry_degree,
+        gap=gap,
+        width=width,
+        height=height,
+        msh_dir=msh_dir,
     )
