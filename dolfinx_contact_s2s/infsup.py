@@ -96,6 +96,7 @@ class InfSupCase:
         family: Key of :data:`FAMILIES`.
         contactor: ``"upper"`` or ``"lower"``.
         cell: ``"triangle"`` or ``"quadrilateral"``.
+        weight: ``"unit"`` or ``"tributary"``, for node-to-segment.
     """
 
     method: str = "segment-to-segment"
@@ -104,6 +105,7 @@ class InfSupCase:
     family: str = "10n/7n"
     contactor: str = "upper"
     cell: str = "quadrilateral"
+    weight: str = "unit"
 
     def record(self) -> dict:
         """The case as a JSON-ready dict."""
@@ -138,9 +140,13 @@ def inf_sup_problem(comm: MPI.Comm, case: InfSupCase, n: int) -> tuple[ContactPr
         for name, V in spaces.items()
     }
     target = "lower" if case.contactor == "upper" else "upper"
-    options: dict[str, typing.Any] = {"method": case.method}
+    # Pair facets across the overlap even where it exceeds the element size.
+    radius = abs(scene.gap) + scene.width / min(elements)
+    options: dict[str, typing.Any] = {"method": case.method, "search_radius": radius}
     if case.multiplier is not None:
         options["multiplier"] = case.multiplier
+    if case.weight != "unit":
+        options["weight"] = case.weight
     pairs = contact_pairs(surfaces[case.contactor], surfaces[target], **options)
     problem = ContactProblem(a, L, pairs, bcs, petsc_options_prefix="infsup_model_")
     return problem, scene.width / elements[0]

@@ -548,27 +548,61 @@ class InfSupTest:
             solves=context.solves,
         )
 
-    def inverse_schur(self) -> npt.NDArray[np.floating]:
+    def inverse_schur(self, block: int = 64) -> npt.NDArray[np.floating]:
         r"""Dense :math:`\Sigma^{-1}` on the scaled multipliers, on every process.
 
-        One back-substitution per multiplier: meant for moderate :math:`n`.
+        One back-substitution per multiplier, ``block`` right-hand sides at a time
+        (``MatMatSolve``): meant for a moderate number :math:`n` of multipliers.
         """
         n = self.constraints
         Y = np.zeros((n, n))
-        x = self.P.createVecRight()
-        start, end = x.getOwnershipRange()
-        for i in range(n):
-            x.set(0.0)
-            if start <= i < end:
-                x.setValue(i, 1.0)
-            x.assemble()
-            self._rhs.set(0.0)
-            self._scatter(x, self._rhs, forward=True)
-            self.ksp.solve(self._rhs, self._sol)
-            self._scatter(self._z, self._sol, forward=False)
-            Y[start:end, i] = -self._z.array_r
-        x.destroy()
+        start, end = self.P.getOwnershipRange()
+        # Rows of the saddle-point vector that hold the owned multipliers, in order.
+        rows = np.empty(end - start, dtype=np.int64)
+        r0 = self.A.getOwnershipRange()[0]
+        for is_m, is_s in zip(self._is_mult, self._is_saddle, strict=True):
+            rows[is_m.getIndices() - start] = is_s.getIndices() - r0
+        F = self.ksp.getPC().getFactorMatrix()
+        local = self.A.getLocalSize()[0]
+        for first in range(0, n, block):
+            cols = np.arange(first, min(first + block, n))
+            E = PETSc.Mat().createDense([[local, None], [None, cols.size]], comm=self.comm)
+            E.setUp()
+            e = E.getDenseArray()
+            e[:] = 0.0
+            owned = cols[(cols >= start) & (cols < end)]
+            e[rows[owned - start], owned - first] = 1.0
+            E.assemble()
+            X = E.duplicate()
+            F.matSolve(E, X)
+            Y[start:end, cols] = -X.getDenseArray()[rows, :]
+            E.destroy()
+            X.destroy()
         return self.comm.allreduce(Y)
+
+    def solve_dense(self) -> InfSup:
+        r""":math:`\beta^*_h` from the dense :meth:`inverse_schur`.
+
+        Block back-substitutions instead of the Krylov eigensolver of :meth:`solve`: the
+        cost grows with the number of multipliers, not with the conditioning of the
+        eigenproblem.
+        """
+        if self.pressure_modes > 0:
+            return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
+        Y = self.inverse_schur()
+        P = gather_dense(self.P)
+        L = np.linalg.cholesky(P)
+        mu = scipy.linalg.eigh(L.T @ Y @ L, eigvals_only=True)[::-1]
+        lam = 1.0 / mu[:4]
+        return InfSup(
+            float(np.sqrt(lam[0])),
+            0,
+            self.constraints,
+            self.displacements,
+            self.h,
+            eigenvalues=tuple(float(x) for x in lam),
+            solves=self.constraints,
+        )
 
     def _dense_order(self, problem: ContactProblem) -> npt.NDArray[np.int64]:
         """Position in the scaled multiplier vector of each row of :func:`_stack_pairs`."""
