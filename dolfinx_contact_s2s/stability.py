@@ -335,7 +335,7 @@ def _stack_pairs(problem: ContactProblem, matrix) -> npt.NDArray[np.floating]:
 
 
 class _InverseSchur:
-    r"""Shell operator :math:`\tilde{\mathbf P} \Sigma^{-1} \tilde{\mathbf P}`.
+    r"""Shell operator :math:`\mathbf P (\Sigma - \tau \mathbf P)^{-1} \mathbf P`.
 
     Each product is one saddle-point back-substitution.
     """
@@ -352,7 +352,7 @@ class _InverseSchur:
         t.ksp.solve(t._rhs, t._sol)
         self.solves += 1
         t._scatter(t._z, t._sol, forward=False)
-        # [[S, B^T], [B, 0]] [u; p] = [0; y]  gives  p = -Sigma^{-1} y.
+        # [[S, B^T], [B, tau P]] [u; p] = [0; y]  gives  p = -(Sigma - tau P)^{-1} y.
         t.P.mult(t._z, y)
         y.scale(-1.0)
 
@@ -362,25 +362,30 @@ class InfSupTest:
 
     The non-zero eigenvalues of Eq. (30) are those of the pencil on the multipliers
 
-    .. math:: \mathbf B \mathbf S^{-1} \mathbf B^T \mathbf M = \lambda\, h \mathbf P
-        \mathbf M,
+    .. math:: \Sigma \mathbf M = \lambda\, h \mathbf P \mathbf M, \qquad
+        \Sigma = \mathbf B \mathbf S^{-1} \mathbf B^T,
 
-    and :math:`\Sigma^{-1} = (\mathbf B \mathbf S^{-1} \mathbf B^T)^{-1}` is the
-    multiplier block of the inverse of the saddle-point matrix
-    :math:`\begin{bmatrix} \mathbf S & \mathbf B^T \\ \mathbf B & \mathbf 0
-    \end{bmatrix}`. That matrix is factorized once with MUMPS:
+    and :math:`(\Sigma - \tau h \mathbf P)^{-1}` is (minus) the multiplier block of the
+    inverse of the shifted saddle-point matrix
 
-    - its null pivots (MUMPS null-pivot detection) are the pressure modes,
-      :math:`k_{pm} = n - \mathrm{rank}\,\mathbf B` (Eqs. 32 and 35), since
-      :math:`\mathbf S` is positive definite;
-    - if there are none, SLEPc finds the largest eigenvalue :math:`1/\lambda_k` of
-      :math:`\mathbf P \Sigma^{-1} \mathbf P \mathbf M = \mu\, h \mathbf P \mathbf M`
-      (generalized Hermitian), each operator product one back-substitution, and
-      :math:`\beta^*_h = \sqrt{\lambda_k}`.
+    .. math:: \mathbf A_\tau = \begin{bmatrix} \mathbf S & \mathbf B^T \\
+        \mathbf B & \tau h \mathbf P \end{bmatrix},
+
+    factorized once (symmetric indefinite :math:`LDL^T`, MUMPS). Since :math:`\mathbf
+    S` is positive definite, Sylvester's law of inertia gives the number of negative
+    pivots of :math:`\mathbf A_\tau` as the number of eigenvalues :math:`\lambda >
+    \tau`, so that
+
+    - the pressure modes, the eigenvalues :math:`\lambda \le \tau` (Eq. 32; zero unless
+      :math:`\mathbf B` is rank deficient, Eq. 35), are counted exactly by the inertia;
+    - if there are none, SLEPc finds the largest eigenvalue :math:`\mu` of
+      :math:`\mathbf P (\Sigma - \tau h \mathbf P)^{-1} \mathbf P \mathbf M = \mu\,
+      \mathbf P \mathbf M` (generalized Hermitian, each product one back-substitution),
+      and :math:`\beta^{*2}_h = \lambda_k = \tau + 1/\mu`.
 
     The multipliers are scaled by :math:`(h P_{ii})^{-1/2}` first, which leaves the
-    eigenvalues alone and makes the pivots of the multiplier block comparable with
-    :math:`\beta^{*2}`, so that null pivots stand out.
+    eigenvalues alone and gives :math:`\mathbf P` a unit diagonal, so that :math:`\tau`
+    is a plain threshold on :math:`\beta^{*2}`.
     """
 
     def __init__(
@@ -390,7 +395,7 @@ class InfSupTest:
         *,
         norm: str = "H1",
         petsc_options_prefix: str = "infsup_",
-        null_pivot_threshold: float = 1e-8,
+        shift: float = 1e-10,
     ):
         r"""Assemble and factorize the saddle-point matrix.
 
@@ -401,12 +406,13 @@ class InfSupTest:
             petsc_options_prefix: Prefix of the options of the factorization
                 (``{prefix}ksp_``, ``{prefix}pc_``, ``{prefix}mat_mumps_``) and of
                 the eigensolver (``{prefix}eps_``, ``{prefix}st_``).
-            null_pivot_threshold: MUMPS ``CNTL(3)``: a pivot is null below this
-                times the norm of the matrix.
+            shift: :math:`\tau`: eigenvalues :math:`\beta^{*2} \le \tau` count as
+                pressure modes.
         """
         if not h > 0:
             raise ValueError(f"the element size h must be positive, not {h}")
         self.h = float(h)
+        self.shift = float(shift)
         self.prefix = petsc_options_prefix
         comm = problem.spaces[0].mesh.comm
         self.comm = comm
@@ -435,6 +441,10 @@ class InfSupTest:
             P.scale(self.h)
             P_blocks[j][j] = P
             scalings.append(d)
+            shifted = P.copy()
+            shifted.scale(shift)
+            blocks[nb + j][nb + j] = shifted
+            self._owned.append(shifted)
             for Bi, V in zip(constraint, (pair.contactor.V, pair.target.V), strict=True):
                 c0, c1 = Bi.getOwnershipRangeColumn()
                 cols = PETSc.IS().createStride(c1 - c0, first=c0, step=1, comm=comm)
@@ -450,6 +460,7 @@ class InfSupTest:
         self._nest = PETSc.Mat().createNest(blocks, comm=comm)
         self._P_nest = PETSc.Mat().createNest(P_blocks, comm=comm)
         self.A = self._nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
+        self.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         #: :math:`h \mathbf D \mathbf P \mathbf D` on the scaled multipliers.
         self.P = self._P_nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
         self._is_saddle = list(self._nest.getNestISs()[0])[nb:]
@@ -470,18 +481,18 @@ class InfSupTest:
         self.ksp.setOptionsPrefix(petsc_options_prefix)
         self.ksp.setType("preonly")
         pc = self.ksp.getPC()
-        pc.setType("lu")
+        pc.setType("cholesky")
         pc.setFactorSolverType("mumps")
         self.ksp.setFromOptions()
         pc.setFactorSetUpSolverType()
         F = pc.getFactorMatrix()
-        F.setMumpsIcntl(24, 1)  # null pivot detection
-        F.setMumpsCntl(3, null_pivot_threshold)
+        F.setMumpsIcntl(13, 1)  # inertia of the root front too (no ScaLAPACK there)
         self.ksp.setUp()
-        #: :math:`k_{pm}`: the null pivots of the saddle-point matrix.
-        self.pressure_modes = int(F.getMumpsInfog(28))
         if F.getMumpsInfog(1) < 0:
             raise RuntimeError(f"MUMPS failed to factorize (INFOG(1) = {F.getMumpsInfog(1)})")
+        negative = int(F.getMumpsInfog(12))
+        #: :math:`k_{pm}`: the eigenvalues :math:`\lambda \le \tau`, from the inertia.
+        self.pressure_modes = self.constraints - negative
 
     @staticmethod
     def _dirichlet_count(problem: ContactProblem) -> int:
@@ -535,7 +546,7 @@ class InfSupTest:
                 f"the inf-sup eigensolver did not converge ({eps.getIterationNumber()} iterations)"
             )
         mu = sorted((eps.getEigenvalue(i).real for i in range(nconv)), reverse=True)
-        lam = tuple(1.0 / m for m in mu[:eigenvalues])
+        lam = tuple(self.shift + 1.0 / m for m in mu[:eigenvalues])
         eps.destroy()
         op.destroy()
         return InfSup(
@@ -548,11 +559,13 @@ class InfSupTest:
             solves=context.solves,
         )
 
-    def inverse_schur(self, block: int = 64) -> npt.NDArray[np.floating]:
-        r"""Dense :math:`\Sigma^{-1}` on the scaled multipliers, on every process.
+    def schur(self, block: int = 64) -> npt.NDArray[np.floating]:
+        r"""Dense :math:`\Sigma = \mathbf B \mathbf S^{-1} \mathbf B^T` on the scaled
+        multipliers, on every process.
 
-        One back-substitution per multiplier, ``block`` right-hand sides at a time
-        (``MatMatSolve``): meant for a moderate number :math:`n` of multipliers.
+        From :math:`(\Sigma - \tau \mathbf P)^{-1}`, one back-substitution per
+        multiplier, ``block`` right-hand sides at a time (``MatMatSolve``): meant for a
+        moderate number :math:`n` of multipliers.
         """
         n = self.constraints
         Y = np.zeros((n, n))
@@ -578,10 +591,11 @@ class InfSupTest:
             Y[start:end, cols] = -X.getDenseArray()[rows, :]
             E.destroy()
             X.destroy()
-        return self.comm.allreduce(Y)
+        Y = self.comm.allreduce(Y)
+        return np.linalg.inv(0.5 * (Y + Y.T)) + self.shift * gather_dense(self.P)
 
     def solve_dense(self) -> InfSup:
-        r""":math:`\beta^*_h` from the dense :meth:`inverse_schur`.
+        r""":math:`\beta^*_h` from the dense :meth:`schur`.
 
         Block back-substitutions instead of the Krylov eigensolver of :meth:`solve`: the
         cost grows with the number of multipliers, not with the conditioning of the
@@ -589,11 +603,7 @@ class InfSupTest:
         """
         if self.pressure_modes > 0:
             return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
-        Y = self.inverse_schur()
-        P = gather_dense(self.P)
-        L = np.linalg.cholesky(P)
-        mu = scipy.linalg.eigh(L.T @ Y @ L, eigvals_only=True)[::-1]
-        lam = 1.0 / mu[:4]
+        lam = scipy.linalg.eigh(self.schur(), gather_dense(self.P), eigvals_only=True)[:4]
         return InfSup(
             float(np.sqrt(lam[0])),
             0,
@@ -617,11 +627,10 @@ class InfSupTest:
         return np.concatenate(order)
 
     def beta_full(self, problem: ContactProblem) -> float:
-        r""":math:`\beta_h` of Eq. (22), from :meth:`inverse_schur` and :func:`dual_norm_matrix`.
+        r""":math:`\beta_h` of Eq. (22), from :meth:`schur` and :func:`dual_norm_matrix`.
 
-        With :math:`\mathbf T = \mathbf L \mathbf L^T`, :math:`1/\beta_h^2` is the
-        largest eigenvalue of :math:`\mathbf L^T \Sigma^{-1} \mathbf L`. 0 where
-        pressure modes exist.
+        :math:`\beta_h^2` is the smallest eigenvalue of :math:`\Sigma \mathbf M =
+        \lambda \mathbf T \mathbf M`; 0 where pressure modes exist.
         """
         if self.pressure_modes > 0:
             return 0.0
@@ -630,10 +639,8 @@ class InfSupTest:
         T = _stack_pairs(problem, dual_norm_matrix)
         T_scaled = np.empty_like(T)
         T_scaled[np.ix_(order, order)] = T * np.outer(D[order], D[order])
-        L = np.linalg.cholesky(T_scaled)
-        Y = self.inverse_schur()
-        mu = scipy.linalg.eigh(L.T @ Y @ L, eigvals_only=True)[-1]
-        return float(np.sqrt(1.0 / mu))
+        lam = scipy.linalg.eigh(self.schur(), T_scaled, eigvals_only=True)[0]
+        return float(np.sqrt(lam))
 
     def _scaling_local(self) -> npt.NDArray[np.floating]:
         """The scaling :math:`(h P_{ii})^{-1/2}` of the owned multipliers, in place."""
