@@ -7,12 +7,19 @@ PYTEST  := python3 -m pytest -q -p no:cacheprovider
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
-.PHONY: demo test check lint package test-serial test-mpi smoke env clean
+.PHONY: demo bench test check lint package test-serial test-mpi smoke env clean
 
-## demo: the patch-test study on 1 and 2 ranks -> results/report.md, results/*.json, results/*.png
+## demo: the patch-test and inf-sup studies on 1 and 2 ranks -> results/*.md, *.json, *.png
 demo:
 	$(ENV_RUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py
+	$(ENV_RUN) python3 demos/demo_infsup.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_infsup.py
+
+## bench: the inf-sup test against one solve on a 240,000-unknown scene -> results/bench_infsup.json
+bench:
+	$(ENV_RUN) python3 bench/bench_infsup.py
+	$(ENV_RUN) $(MPIRUN) python3 bench/bench_infsup.py
 
 ## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie then sid
 test:
@@ -56,6 +63,8 @@ smoke:
 	@echo "== [$(SUITE)] demos, smoke run"
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:
