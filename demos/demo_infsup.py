@@ -188,7 +188,11 @@ if comm.rank == 0:
     for filename, (title, panels, label) in figures.items():
         fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
         for ax, keep in zip(axes[0], panels, strict=True):
-            plot(ax, [r for r in records if keep(r)], label)
+            selected = [r for r in records if keep(r)]
+            plot(ax, selected, label)
+            if len(panels) > 1 and selected:
+                first = selected[0]
+                ax.set_title(f"{first['family']}, {first['contactor']} contactor", fontsize=9)
         fig.suptitle(title)
         fig.tight_layout()
         fig.savefig(out / filename, dpi=110)
