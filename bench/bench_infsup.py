@@ -8,8 +8,8 @@ quadratic continuous multiplier, large enough to be far beyond the dense test (a
 the ratio is meaningful on a noisy machine even when the seconds are not:
 
 - one solve: factorizing and solving Eq. (18) of the assembled ``ContactProblem``;
-- the inf-sup test: assembling S and P, factorizing the saddle-point matrix with null
-  pivot detection and the SLEPc eigensolve (``InfSupTest``).
+- the inf-sup test: assembling S and P, factorizing the shifted saddle-point matrix (its
+  inertia counts the pressure modes) and the SLEPc eigensolve (``InfSupTest``).
 
 Writes ``results/bench_infsup.json`` (and prints progress).
 """
@@ -78,7 +78,7 @@ for k in range(args.repeat):
     log(f"  [{k + 1}/{args.repeat}] one saddle-point solve: {t_solve:.2f} s")
 
     def infsup():
-        """The scalable test: factorization, null pivots, SLEPc."""
+        """The scalable test: factorization, inertia, SLEPc."""
         test = InfSupTest(problem, h)
         try:
             return test, test.solve()

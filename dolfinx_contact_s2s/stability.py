@@ -1,11 +1,14 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""Solvability of a contact discretization (section 3.1, Eqs. 33-35).
+r"""Solvability and stability of a contact discretization (section 3.1).
 
 Eq. (18) is solvable when :math:`\mathbf K` is positive definite on the kernel of
 :math:`\mathbf B` (Eq. 33: a properly supported structure) and :math:`\mathbf B` has full
 row rank (Eqs. 34-35): otherwise some multipliers are not determined, and a direct
-solver returns arbitrary values for them. This module needs petsc4py.
+solver returns arbitrary values for them. It is stable when, in addition, the inf-sup
+values of Eqs. (22) and (26)-(27) stay bounded away from zero as the mesh is refined:
+:func:`inf_sup_dense` evaluates them as the paper states them, :class:`InfSupTest` for
+large meshes. This module needs petsc4py (and slepc4py for :meth:`InfSupTest.solve`).
 """
 
 from __future__ import annotations
@@ -246,10 +249,7 @@ def _dirichlet_free(problem: ContactProblem) -> npt.NDArray[np.bool_]:
 def _norm_matrices(problem: ContactProblem, norm: str) -> list[PETSc.Mat]:
     r""":math:`\mathbf S` of Eq. (28) per body, Dirichlet rows and columns unit."""
     if norm == "energy":
-        out = []
-        for K in problem._K:
-            out.append(K.copy())
-        return out
+        return [K.copy() for K in problem._K]
     if norm != "H1":
         raise ValueError(f"norm must be 'H1' or 'energy', not {norm!r}")
     out = []
@@ -379,13 +379,14 @@ class InfSupTest:
     - the pressure modes, the eigenvalues :math:`\lambda \le \tau` (Eq. 32; zero unless
       :math:`\mathbf B` is rank deficient, Eq. 35), are counted exactly by the inertia;
     - if there are none, SLEPc finds the largest eigenvalue :math:`\mu` of
-      :math:`\mathbf P (\Sigma - \tau h \mathbf P)^{-1} \mathbf P \mathbf M = \mu\,
-      \mathbf P \mathbf M` (generalized Hermitian, each product one back-substitution),
-      and :math:`\beta^{*2}_h = \lambda_k = \tau + 1/\mu`.
+      :math:`h \mathbf P (\Sigma - \tau h \mathbf P)^{-1} h \mathbf P \mathbf M = \mu\,
+      h \mathbf P \mathbf M` (generalized Hermitian, each product one
+      back-substitution), and :math:`\beta^{*2}_h = \lambda_k = \tau + 1/\mu`.
 
     The multipliers are scaled by :math:`(h P_{ii})^{-1/2}` first, which leaves the
-    eigenvalues alone and gives :math:`\mathbf P` a unit diagonal, so that :math:`\tau`
-    is a plain threshold on :math:`\beta^{*2}`.
+    eigenvalues alone and gives :math:`h \mathbf P` a unit diagonal, so that :math:`\tau`
+    is a plain threshold on :math:`\beta^{*2}`. The methods below work on the scaled
+    multipliers, where :attr:`P` stands for :math:`h \mathbf P`.
     """
 
     def __init__(
@@ -543,10 +544,11 @@ class InfSupTest:
         eps.solve()
         nconv = eps.getConverged()
         if nconv < 1:
+            iterations = eps.getIterationNumber()
             eps.destroy()
             op.destroy()
             raise RuntimeError(
-                f"the inf-sup eigensolver did not converge ({eps.getIterationNumber()} iterations)"
+                f"the inf-sup eigensolver did not converge ({iterations} iterations)"
             )
         mu = sorted((eps.getEigenvalue(i).real for i in range(nconv)), reverse=True)
         lam = tuple(self.shift + 1.0 / m for m in mu[:eigenvalues])
@@ -676,6 +678,7 @@ class InfSupTest:
             self._rhs,
             self._sol,
             self._z,
+            self._scaling,
             *self._S,
             *self._owned,
         ]:

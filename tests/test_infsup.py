@@ -5,7 +5,8 @@
 The numbers asserted come from outside the code under test: the paper's Tables 1-2
 and Figs. 8 and 11, and agreement between independent implementations (the dense
 displacement-space eigenproblem of Eq. 30 against the SLEPc eigensolver on the
-multipliers; Eq. 32's count against the SVD rank of B and MUMPS null pivots; one
+multipliers; Eq. 32's count against the SVD rank of B and the inertia of the shifted
+saddle-point matrix; one
 rank against two).
 """
 
@@ -102,7 +103,7 @@ def test_nodal_force_and_pressure_multipliers_agree():
     ids=str,
 )
 def test_pressure_modes(case, n, modes):
-    """Eq. (32)'s count, the SVD rank of B (Eq. 35) and MUMPS null pivots agree."""
+    """Eq. (32)'s count, the SVD rank of B (Eq. 35) and the inertia agree."""
     problem, h = inf_sup_problem(comm, case, n)
     dense = inf_sup_dense(problem, h, full=False)
     svd = solvability(problem)
