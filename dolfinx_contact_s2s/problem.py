@@ -1,0 +1,532 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The tied contact problem of Eq. (18), shaped like :class:`dolfinx.fem.petsc.LinearProblem`.
+
+Every constraint of every pair is active (Eq. 15 with a known contact surface): the
+surfaces are tied in the normal direction and :math:`\lambda` is the contact pressure,
+positive in compression. A solve checks itself: the model's support and the rank of
+the constraints are checked when the system is assembled, and the residual of the
+saddle-point system after every solve; a problem that cannot be trusted raises on
+every rank with the cause named, never returns a plausible wrong answer.
+
+This module needs petsc4py and must be imported explicitly.
+"""
+
+from __future__ import annotations
+
+import logging
+import typing
+from collections.abc import Sequence
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import numpy.typing as npt
+import ufl
+
+from dolfinx_contact_s2s import checks
+from dolfinx_contact_s2s._compat import DOLFINX_VERSION
+from dolfinx_contact_s2s.coupling import ContactPair
+from dolfinx_contact_s2s.options import PETScOptions
+from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling
+
+__all__ = ["DEFAULT_OPTIONS", "LinearContactProblem", "solver_failure"]
+
+logger = logging.getLogger(__name__)
+
+#: Solver defaults; each yields to ``petsc_options`` and to the options database.
+DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+
+#: MUMPS errors that more workspace cures (INFOG(1), MUMPS user's guide, section 8).
+_MUMPS_WORKSPACE = (-8, -9, -11, -12, -14, -15, -17, -20)
+
+_KSP_REASONS = {
+    v: k for k, v in vars(PETSc.KSP.ConvergedReason).items() if isinstance(v, int) and k.isupper()
+}
+
+
+def _mumps_factor(ksp: PETSc.KSP) -> PETSc.Mat | None:
+    """The MUMPS factor of a direct solver, or ``None``."""
+    pc = ksp.getPC()
+    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+        return None
+    return pc.getFactorMatrix()
+
+
+def solver_failure(ksp: PETSc.KSP, prefix: str) -> str:
+    """Why a KSP solve failed, in words, naming the option to change where there is one."""
+    reason = ksp.getConvergedReason()
+    text = f"KSP reason {_KSP_REASONS.get(reason, reason)} ({reason})"
+    F = _mumps_factor(ksp)
+    if F is None:
+        return f"{text} after {ksp.getIterationNumber()} iterations"
+    info = F.getMumpsInfog(1)
+    if info in _MUMPS_WORKSPACE:
+        return (
+            f"{text}: MUMPS ran out of workspace (INFOG(1) = {info}) with ICNTL(14) = "
+            f"{F.getMumpsIcntl(14)}; raise it with petsc_options={{'mat_mumps_icntl_14': ...}} "
+            f"or -{prefix}mat_mumps_icntl_14"
+        )
+    if info == -13:
+        return f"{text}: MUMPS could not allocate memory (INFOG(1) = -13)"
+    if info == -10:
+        return f"{text}: MUMPS found the matrix numerically singular (INFOG(1) = -10)"
+    return f"{text}: MUMPS INFOG(1) = {info}, INFOG(2) = {F.getMumpsInfog(2)}"
+
+
+def _as_list(forms: typing.Any) -> list:
+    return list(forms) if isinstance(forms, Sequence) else [forms]
+
+
+def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool:
+    # bc.function_space is a C++ space in some DOLFINx versions, a Python one in others.
+    W = bc.function_space
+    return V._cpp_object.contains(getattr(W, "_cpp_object", W))
+
+
+def _create_vector(V: dolfinx.fem.FunctionSpace) -> PETSc.Vec:
+    """A ghosted PETSc vector of ``V`` (the API moved in DOLFINx 0.10)."""
+    if DOLFINX_VERSION >= (0, 10):
+        return dolfinx.fem.petsc.create_vector(V)
+    return dolfinx.la.create_petsc_vector(V.dofmap.index_map, V.dofmap.index_map_bs)
+
+
+def _owned_vec(V: dolfinx.fem.FunctionSpace, values: npt.NDArray[np.floating]) -> PETSc.Vec:
+    """A PETSc vector in the owned layout of ``V`` holding a copy of ``values``."""
+    n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+    return PETSc.Vec().createWithArray(np.array(values[:n]), comm=V.mesh.comm)
+
+
+class LinearContactProblem:
+    r"""Linear elastic bodies tied by Lagrange-multiplier contact (Eq. 18).
+
+    Assembles and solves
+
+    .. math::
+        \begin{bmatrix} \mathbf K & -\mathbf B^T \\ -\mathbf B & \mathbf 0 \end{bmatrix}
+        \begin{Bmatrix} \mathbf U \\ \mathbf \Lambda \end{Bmatrix} =
+        \begin{Bmatrix} \mathbf F \\ \mathbf G \end{Bmatrix},
+
+    Eq. (18) with the signs of Eq. (15): :math:`a(\mathbf u, \mathbf v) - b(\mathbf v,
+    \lambda) = (\mathbf f, \mathbf v)` and a zero gap :math:`b(\mathbf u, \mu) + \int \mu
+    g_0 = 0`, with :math:`\mathbf B` the coupling of Eq. (40) and :math:`\mathbf G =
+    \int \mu g_0`. Rows: the displacement spaces in the order of ``a``, then the pairs.
+
+    A displacement space may hold several bodies (one mesh with several connected
+    components), and a pair may couple a contactor to several targets in any spaces.
+
+    Rules:
+
+    - Dirichlet conditions are applied to :math:`\mathbf K` as
+      :func:`dolfinx.fem.petsc.assemble_matrix` does (unit diagonal); in :math:`\mathbf
+      B` their columns are masked in a copy and their values moved to the right-hand
+      side: :math:`-\mathbf B \mathbf U_0 = \mathbf G + \mathbf B \mathbf U_D`.
+    - A multiplier whose support faces no target (a contactor hanging over the end of
+      its target) carries no constraint: its row reads :math:`\lambda_k = 0`. So do the
+      duplicates of a two-pass method (section 4.3).
+    - At assembly, a body that some rigid motion moves without resistance (Eq. 33:
+      the structure must be properly supported) and redundant constraints (Eq. 35:
+      :math:`\mathbf B` must have full row rank) raise :class:`ValueError`.
+    - After every solve, a failed KSP or a relative residual
+      :math:`\|\mathbf b - \mathbf A \mathbf x\| / \|\mathbf b\|` above
+      ``residual_tolerance`` raises :class:`RuntimeError`. A MUMPS workspace error is
+      met by doubling ICNTL(14), up to :attr:`workspace_retries` times.
+
+    Usable as a context manager; otherwise call :meth:`destroy`.
+    """
+
+    def __init__(
+        self,
+        a: ufl.Form | Sequence[ufl.Form],
+        L: ufl.Form | Sequence[ufl.Form],
+        pairs: Sequence[ContactPair],
+        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
+        *,
+        petsc_options_prefix: str,
+        petsc_options: dict[str, typing.Any] | None = None,
+        kind: str = "aij",
+        residual_tolerance: float = 1e-8,
+        form_compiler_options: dict | None = None,
+        jit_options: dict | None = None,
+    ):
+        """Set up the forms, the solution functions and the solver.
+
+        Args:
+            a: Bilinear form of each displacement space (a single form for one space).
+            L: Linear form of each displacement space, in the same order.
+            pairs: Contact pairs between surfaces of these spaces.
+            bcs: Dirichlet conditions on any of the spaces.
+            petsc_options_prefix: Non-empty prefix of the solver's options.
+            petsc_options: Options set under the prefix, e.g. ``{"ksp_type": "gmres"}``;
+                they reach every object that reads them, the factorization included.
+                Defaults: :data:`DEFAULT_OPTIONS` (MUMPS LU), each yielding to these
+                and to the options database (command line, ``PETSC_OPTIONS``).
+            kind: ``"aij"`` (one assembled matrix, for direct solvers) or ``"nest"``
+                (the ``MatNest`` of the blocks, for field-split solvers).
+            residual_tolerance: Largest relative residual of a trusted solve.
+            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
+            jit_options: Passed to :func:`dolfinx.fem.form`.
+
+        Raises:
+            ValueError: On every rank, for inconsistent input.
+        """
+        a, L = _as_list(a), _as_list(L)
+        if len(a) != len(L) or not a:
+            raise ValueError("give one bilinear and one linear form per displacement space")
+        if kind not in ("aij", "nest"):
+            raise ValueError(f"kind must be 'aij' or 'nest', not {kind!r}")
+        self.spaces: list[dolfinx.fem.FunctionSpace] = []
+        for ai, Li in zip(a, L, strict=True):
+            test, trial = (arg.ufl_function_space() for arg in ai.arguments())
+            if test is not trial or Li.arguments()[0].ufl_function_space() is not test:
+                raise ValueError("each a and L must share one displacement space")
+            if any(test is V for V in self.spaces):
+                raise ValueError("each displacement space may carry only one form a")
+            self.spaces.append(test)
+        self.comm: MPI.Comm = self.spaces[0].mesh.comm
+        options = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
+        self.a = [dolfinx.fem.form(ai, **options) for ai in a]
+        self.L = [dolfinx.fem.form(Li, **options) for Li in L]
+        self.pairs = list(pairs)
+        self._check_pairs()
+        self.bcs = list(bcs)
+        self.bcs_by_space = [[bc for bc in self.bcs if _contains(V, bc)] for V in self.spaces]
+        if sum(len(b) for b in self.bcs_by_space) != len(self.bcs):
+            raise ValueError("a Dirichlet condition is on none of the problem's spaces")
+        self.kind = kind
+        self.residual_tolerance = float(residual_tolerance)
+        #: Times a MUMPS workspace error is met by doubling ICNTL(14) before raising.
+        self.workspace_retries = 3
+
+        self.u = [dolfinx.fem.Function(V, name=f"u{i}") for i, V in enumerate(self.spaces)]
+        self.multipliers = [
+            dolfinx.fem.Function(pair.Q, name=f"lambda{j}") for j, pair in enumerate(self.pairs)
+        ]
+        self.stiffness = [dolfinx.fem.petsc.create_matrix(ai) for ai in self.a]
+        self._loads = [_create_vector(V) for V in self.spaces]
+        self.operators: list[CouplingOperator] = []
+        self.constraints: list[list[tuple[int, PETSc.Mat]]] = []
+        self.A: PETSc.Mat | None = None
+        self.b: PETSc.Vec | None = None
+        self.x: PETSc.Vec | None = None
+        self.fields: dict[str, PETSc.IS] = {}
+        self._owned: list[typing.Any] = []
+
+        self.options = PETScOptions(petsc_options_prefix, petsc_options, DEFAULT_OPTIONS)
+        self.solver = PETSc.KSP().create(self.comm)
+        self.options.apply(self.solver)
+
+    # --- set-up checks --------------------------------------------------------------
+
+    def space_index(self, V: dolfinx.fem.FunctionSpace) -> int:
+        """Position of ``V`` among :attr:`spaces`.
+
+        Raises:
+            ValueError: If ``V`` is not one of the problem's spaces.
+        """
+        for i, W in enumerate(self.spaces):
+            if W is V:
+                return i
+        raise ValueError(
+            "a contact surface is on a function space that carries no form of the problem: "
+            "create the surfaces on the same space objects as the forms a"
+        )
+
+    def _check_pairs(self) -> None:
+        seen: dict[tuple[int, int], int] = {}
+        for j, pair in enumerate(self.pairs):
+            for surface in (pair.contactor, *pair.targets):
+                self.space_index(surface.V)
+            key = (id(pair.contactor.V.mesh), pair.contactor.tag)
+            if key in seen:
+                raise ValueError(
+                    f"pairs {seen[key]} and {j} share the contactor surface (tag "
+                    f"{pair.contactor.tag}): a contactor carries one multiplier field, so give "
+                    "all its targets to one pair, contact_pair(contactor, [target_a, target_b])"
+                )
+            seen[key] = j
+
+    # --- assembly -------------------------------------------------------------------
+
+    def dirichlet_mask(self, i: int) -> PETSc.Vec:
+        """1 at the free dofs of space ``i``, 0 at its Dirichlet dofs (owned layout).
+
+        The caller must ``destroy()`` it.
+        """
+        keep = dolfinx.fem.Function(self.spaces[i])
+        keep.x.array[:] = 1.0
+        for bc in self.bcs_by_space[i]:
+            keep.x.array[bc.dof_indices()[0]] = 0.0
+        return _owned_vec(self.spaces[i], keep.x.array)
+
+    def dirichlet_values(self, i: int) -> PETSc.Vec:
+        """The Dirichlet values of space ``i``, zero elsewhere (owned layout); destroy it."""
+        values = dolfinx.fem.Function(self.spaces[i])
+        for bc in self.bcs_by_space[i]:
+            bc.set(values.x.array)
+        return _owned_vec(self.spaces[i], values.x.array)
+
+    def _active(self, op: CouplingOperator) -> PETSc.Vec:
+        """1 for the constrained multipliers of a pair, 0 for the inactive ones."""
+        active = op.G.duplicate()
+        active.set(1.0)
+        start, end = active.getOwnershipRange()
+        mine = op.inactive[(op.inactive >= start) & (op.inactive < end)]
+        active.array[mine - start] = 0.0
+        return active
+
+    def _destroy_assembly(self) -> None:
+        for obj in self._owned:
+            obj.destroy()
+        for op in self.operators:
+            op.destroy()
+        self._owned, self.operators, self.constraints, self.fields = [], [], [], {}
+        self.A = self.b = self.x = None
+
+    def assemble(self, check: bool = True) -> None:
+        """Assemble :math:`\\mathbf K`, :math:`\\mathbf F`, the coupling and the saddle point.
+
+        Args:
+            check: Check the support of every body (Eq. 33) and the rank of the
+                constraints (Eq. 35). Only diagnostics of singular discretizations
+                (:mod:`dolfinx_contact_s2s.stability`) leave it out.
+
+        Raises:
+            ValueError: On every rank, with ``check``, if a body is not supported or
+                constraints are redundant.
+        """
+        self._destroy_assembly()
+        nb, npairs = len(self.spaces), len(self.pairs)
+        for K, F, ai, Li, bcs in zip(
+            self.stiffness, self._loads, self.a, self.L, self.bcs_by_space, strict=True
+        ):
+            K.zeroEntries()
+            dolfinx.fem.petsc.assemble_matrix(K, ai, bcs=bcs)
+            K.assemble()
+            with F.localForm() as f:
+                f.set(0.0)
+            dolfinx.fem.petsc.assemble_vector(F, Li)
+            dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bcs])
+            F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            dolfinx.fem.petsc.set_bc(F, bcs)
+
+        masks = [self.dirichlet_mask(i) for i in range(nb)]
+        values = [self.dirichlet_values(i) for i in range(nb)]
+        self._owned.extend(masks + values)
+        blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
+        for i, K in enumerate(self.stiffness):
+            blocks[i][i] = K
+        rhs: list[PETSc.Vec] = list(self._loads)
+        for j, pair in enumerate(self.pairs):
+            op = assemble_coupling(pair)
+            self.operators.append(op)
+            active = self._active(op)
+            G = op.G.copy()
+            masked = []
+            for V, B in op.blocks:
+                i = self.space_index(V)
+                # -B U = G with U = U_free + U_D  =>  -B U_free = G + B U_D.
+                B.multAdd(values[i], G, G)
+                Bm = B.copy()
+                Bm.diagonalScale(active, masks[i])
+                masked.append((i, Bm))
+                minus = Bm.copy()
+                minus.scale(-1.0)
+                minus_t = minus.transpose(PETSc.Mat())
+                blocks[nb + j][i] = minus
+                blocks[i][nb + j] = minus_t
+                self._owned.extend([Bm, minus, minus_t])
+            G.pointwiseMult(G, active)
+            rhs.append(G)
+            self.constraints.append(masked)
+            if op.inactive.size:
+                # Inactive multipliers: the row reads lambda_k = 0.
+                inactive = active.duplicate()
+                inactive.set(1.0)
+                inactive.axpy(-1.0, active)
+                D = PETSc.Mat().createAIJ(
+                    [[G.getLocalSize(), G.getSize()]] * 2, nnz=(1, 0), comm=self.comm
+                )
+                D.setDiagonal(inactive)
+                D.assemble()
+                blocks[nb + j][nb + j] = D
+                self._owned.extend([D, inactive])
+            self._owned.extend([G, active])
+            if op.uncovered.size:
+                logger.info(
+                    "pair %d: %d multipliers face no target and are set to zero",
+                    j,
+                    op.uncovered.size,
+                )
+
+        if check:
+            self._check_support(masks)
+            self._check_redundancy()
+
+        nest = PETSc.Mat().createNest(blocks, comm=self.comm)
+        nest.assemble()
+        self._owned.append(nest)
+        index_sets = nest.getNestISs()[0]
+        names = [f"u{i}" for i in range(nb)] + [f"lambda{j}" for j in range(npairs)]
+        self.fields = dict(zip(names, index_sets, strict=True))
+        if self.kind == "nest":
+            self.A = nest
+        else:
+            self.A = nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
+            self._owned.append(self.A)
+        self.b = self.A.createVecLeft() if self.kind == "aij" else self._plain_vector(nest)
+        self.x = self.b.duplicate()
+        self._owned.extend([self.b, self.x])
+        for is_, v in zip(index_sets, rhs, strict=True):
+            sub = self.b.getSubVector(is_)
+            sub.array[:] = v.array_r[: sub.getLocalSize()]
+            self.b.restoreSubVector(is_, sub)
+        for i, is_ in enumerate(index_sets[:nb]):
+            # Each body's rigid modes for GAMG: PCFieldSplit reads a near-null space
+            # composed on the field's index set.
+            ns = checks.near_nullspace(self.spaces[i])
+            is_.compose("nearnullspace", ns)
+            self.stiffness[i].setNearNullSpace(ns)
+            self._owned.append(ns)
+        self._configure_solver()
+
+    @staticmethod
+    def _plain_vector(nest: PETSc.Mat) -> PETSc.Vec:
+        """An MPI vector in the row layout of a ``MatNest`` (the nest reads it by index sets)."""
+        n, N = nest.getSizes()[0]
+        return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
+
+    def _configure_solver(self) -> None:
+        """Operator, options and named fields (``-prefix_pc_type fieldsplit``) of the solver."""
+        assert self.A is not None
+        self.solver.setOperators(self.A)
+        self.options.apply(self.A, suffixes=["A_"])
+        self.options.apply(self.solver)
+        self.solver.getPC().setFieldSplitIS(*self.fields.items())
+
+    def _check_support(self, masks: list[PETSc.Vec]) -> None:
+        constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
+        motions = checks.unsupported_motions(
+            self.spaces,
+            self.stiffness,
+            masks,
+            constraints,
+            [op.inactive for op in self.operators],
+        )
+        if motions:
+            lines = "\n".join(f"  - {m.describe()}" for m in motions)
+            raise ValueError(
+                "the problem is singular: these rigid motions meet no Dirichlet condition, "
+                f"no contact constraint and no stiffness (Eq. 33):\n{lines}\n"
+                "Add a Dirichlet condition (or a contact pair) that holds each of them."
+            )
+
+    def _check_redundancy(self) -> None:
+        for j, (pair, masked) in enumerate(zip(self.pairs, self.constraints, strict=True)):
+            report = checks.redundant_constraints(
+                [B for _, B in masked], inactive=self.operators[j].inactive
+            )
+            if report.count:
+                raise ValueError(
+                    f"pair {j} ({pair.method}, contactor tag {pair.contactor.tag}) has "
+                    f"{report.count} redundant constraint(s): B has no full row rank "
+                    f"(Eq. 35), so the multipliers are not determined. {report.describe()}"
+                )
+
+    # --- solve ----------------------------------------------------------------------
+
+    def solve(self) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
+        """Assemble and solve Eq. (18), then check the solve.
+
+        Returns:
+            The displacement of every space and the multiplier (contact pressure) of
+            every pair.
+
+        Raises:
+            ValueError: On every rank, if the model is singular (see :meth:`assemble`).
+            RuntimeError: On every rank, if the solver fails or its residual is too large.
+        """
+        self.assemble()
+        assert self.A is not None and self.b is not None and self.x is not None
+        self.solver.solve(self.b, self.x)
+        for _ in range(self.workspace_retries):
+            F = _mumps_factor(self.solver)
+            if self.solver.getConvergedReason() >= 0 or F is None:
+                break
+            if F.getMumpsInfog(1) not in _MUMPS_WORKSPACE:
+                break
+            icntl = max(2 * F.getMumpsIcntl(14), F.getMumpsIcntl(14) + 50)
+            logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
+            self.options.set("mat_mumps_icntl_14", icntl)
+            # A new factor reads the raised ICNTL(14) from the database.
+            self.solver.reset()
+            self._configure_solver()
+            self.solver.solve(self.b, self.x)
+        if self.solver.getConvergedReason() < 0:
+            raise RuntimeError(
+                "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
+            )
+        self._check_residual()
+        for f, is_ in zip(self.u + self.multipliers, self.fields.values(), strict=True):
+            sub = self.x.getSubVector(is_)
+            f.x.array[: sub.getLocalSize()] = sub.array_r
+            self.x.restoreSubVector(is_, sub)
+            f.x.scatter_forward()
+        return self.u, self.multipliers
+
+    def residual(self) -> float:
+        r"""Relative residual :math:`\|\mathbf b - \mathbf A \mathbf x\|_2 / \|\mathbf b\|_2`."""
+        assert self.A is not None and self.b is not None and self.x is not None
+        r = self.b.duplicate()
+        self.A.mult(self.x, r)
+        r.aypx(-1.0, self.b)
+        rnorm, bnorm = r.norm(), self.b.norm()
+        r.destroy()
+        return rnorm / bnorm if bnorm > 0 else rnorm
+
+    def _check_residual(self) -> None:
+        residual = self.residual()
+        if not residual <= self.residual_tolerance:
+            raise RuntimeError(
+                f"the contact solve cannot be trusted: relative residual {residual:.2e} > "
+                f"{self.residual_tolerance:.0e}. The saddle-point matrix is (nearly) singular "
+                "or too ill-conditioned for this solver (check the supports, the element "
+                "quality and nu close to 1/2), or an iterative solver stopped early "
+                f"({solver_failure(self.solver, self.options.prefix)})."
+            )
+
+    def contact_forces(self) -> list[dolfinx.fem.Function]:
+        r"""Nodal contact force on every space, :math:`\sum_j \mathbf B_{j}^T \Lambda_j`.
+
+        Call after :meth:`solve`. Includes the forces at Dirichlet dofs (taken by the
+        supports).
+        """
+        forces = [dolfinx.fem.Function(V, name=f"contact_force{i}") for i, V in enumerate(self.spaces)]
+        for op, lam in zip(self.operators, self.multipliers, strict=True):
+            for V, B in op.blocks:
+                f = forces[self.space_index(V)]
+                y = B.createVecRight()
+                B.multTranspose(lam.x.petsc_vec, y)
+                f.x.array[: y.getLocalSize()] += y.array_r
+                y.destroy()
+        for f in forces:
+            f.x.scatter_forward()
+        return forces
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects and remove the problem's options from the database."""
+        self._destroy_assembly()
+        for obj in [self.solver, *self.stiffness, *self._loads]:
+            obj.destroy()
+        self.options.clear()
+
+    def __enter__(self) -> LinearContactProblem:
+        """Use as a context manager: :meth:`destroy` on exit."""
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        """Destroy the PETSc objects."""
+        self.destroy()

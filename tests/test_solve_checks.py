@@ -1,0 +1,219 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Every solve checks itself: the defects of issue [4/8], built the way a user builds them.
+
+Each test is the README example with one thing a user gets wrong, or one option a user
+sets; the expected outcome is a correct answer or a clear exception on every rank.
+"""
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import numpy as np
+import pytest
+import ufl
+
+from dolfinx_contact_s2s import Material, contact_pairs, contact_surface, scenes
+from dolfinx_contact_s2s.problem import LinearContactProblem
+from dolfinx_contact_s2s.stability import solvability
+
+comm = MPI.COMM_WORLD
+MATERIALS = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=3.0, nu=0.2)}
+
+
+def readme_problem(
+    *,
+    elements=(10, 7),
+    degree=1,
+    support=True,
+    contactor="upper",
+    method="segment-to-segment",
+    prefix="checks_",
+    **kwargs,
+):
+    """The README example; ``support=False`` forgets the lower block's vertical support."""
+    scene = scenes.patch_test(comm, elements=elements)
+    a, L, bcs, surfaces = [], [], [], {}
+    for name, body in scene.bodies.items():
+        V = dolfinx.fem.functionspace(body.mesh, ("Lagrange", degree, (2,)))
+        a_body, _, v = MATERIALS[name].forms(V)
+        ds = ufl.Measure("ds", domain=body.mesh, subdomain_data=body.facet_tags)
+        t = dolfinx.fem.Constant(body.mesh, np.array([0.0, -1.0 if name == "upper" else 0.0]))
+        a.append(a_body)
+        L.append(ufl.inner(t, v) * ds(scenes.TOP))
+        left = dolfinx.fem.locate_dofs_topological(V.sub(0), 1, body.facet_tags.find(scenes.LEFT))
+        bcs.append(dolfinx.fem.dirichletbc(0.0, left, V.sub(0)))
+        if name == "lower" and support:
+            bottom = body.facet_tags.find(scenes.BOTTOM)
+            dofs = dolfinx.fem.locate_dofs_topological(V.sub(1), 1, bottom)
+            bcs.append(dolfinx.fem.dirichletbc(0.0, dofs, V.sub(1)))
+        surfaces[name] = contact_surface(V, body.facet_tags, body.contact)
+    target = "lower" if contactor == "upper" else "upper"
+    pairs = contact_pairs(surfaces[contactor], surfaces[target], method=method)
+    return LinearContactProblem(a, L, pairs, bcs, petsc_options_prefix=prefix, **kwargs)
+
+
+def max_pressure_error(problem):
+    lam = problem.multipliers[0]
+    owned = lam.function_space.dofmap.index_map.size_local
+    local = float(np.max(np.abs(lam.x.array[:owned] - 1.0), initial=0.0))
+    return comm.allreduce(local, op=MPI.MAX)
+
+
+def test_readme_problem_passes_the_patch_test():
+    with readme_problem() as problem:
+        problem.solve()
+        assert max_pressure_error(problem) < 1e-10
+        assert problem.residual() < 1e-12
+
+
+def test_floating_body_raises_naming_it():
+    """Without its vertical support the lower block floats: raise, naming body and motion."""
+    with readme_problem(support=False) as problem:
+        with pytest.raises(ValueError, match="rigid motion") as info:
+            problem.solve()
+    message = str(info.value)
+    # Space 0 is the lower block; it can only translate vertically.
+    assert "space 0" in message
+    assert "translation" in message
+
+
+def test_redundant_constraints_raise():
+    """Node-to-segment at the contactor's Gauss points over-constrains the finer surface.
+
+    The dense SVD of B (Eq. 35, an independent implementation) says the same.
+    """
+    with readme_problem(contactor="lower", method="node-to-segment-gauss") as problem:
+        problem.assemble(check=False)
+        assert not solvability(problem).solvable
+        with pytest.raises(ValueError, match="redundant constraint"):
+            problem.solve()
+
+
+def test_petsc_options_reach_the_factorization():
+    """MUMPS options given as petsc_options are read by the factor (ICNTL(14) read back)."""
+    with readme_problem(prefix="icntl_", petsc_options={"mat_mumps_icntl_14": 200}) as problem:
+        problem.solve()
+        factor = problem.solver.getPC().getFactorMatrix()
+        assert factor.getMumpsIcntl(14) == 200
+        assert max_pressure_error(problem) < 1e-10
+
+
+def test_options_live_with_the_problem_and_are_restored():
+    options = PETSc.Options()
+    options["scope_ksp_rtol"] = "1e-3"
+    problem = readme_problem(prefix="scope_", petsc_options={"ksp_rtol": 1e-9})
+    assert options.getReal("scope_ksp_rtol") == pytest.approx(1e-9)
+    assert options.getString("scope_pc_type") == "lu"  # a default
+    problem.destroy()
+    assert options.getReal("scope_ksp_rtol") == pytest.approx(1e-3)
+    assert not options.hasName("scope_pc_type")
+    options.delValue("scope_ksp_rtol")
+
+
+def test_database_options_beat_the_defaults():
+    """Options from the command line or PETSC_OPTIONS under the prefix are honoured."""
+    options = PETSc.Options()
+    options["cli_ksp_type"] = "gmres"
+    options["cli_ksp_rtol"] = "1e-13"
+    try:
+        with readme_problem(prefix="cli_") as problem:
+            problem.solve()
+            assert problem.solver.getType() == "gmres"
+            assert problem.solver.getPC().getType() == "lu"
+            assert max_pressure_error(problem) < 1e-10
+    finally:
+        options.delValue("cli_ksp_type")
+        options.delValue("cli_ksp_rtol")
+
+
+def test_mumps_workspace_error_is_recovered():
+    """ICNTL(14) = 0 leaves no room for the delayed pivots of the saddle point.
+
+    Either the first factorization succeeds, or the solve raises ICNTL(14) and retries;
+    the answer is the patch test's either way.
+    """
+    options = {"mat_mumps_icntl_14": 0}
+    with readme_problem(prefix="ws_", degree=2, petsc_options=options) as problem:
+        problem.solve()
+        assert max_pressure_error(problem) < 1e-10
+
+
+def test_mumps_workspace_error_names_the_option():
+    options = {"mat_mumps_icntl_14": 0}
+    with readme_problem(prefix="ws2_", degree=2, petsc_options=options) as problem:
+        problem.workspace_retries = 0
+        problem.assemble()
+        problem.solver.solve(problem.b, problem.x)
+        failed = problem.solver.getConvergedReason() < 0
+    if not failed:
+        pytest.skip("MUMPS factorized this saddle point without extra workspace")
+    with readme_problem(prefix="ws3_", degree=2, petsc_options=options) as problem:
+        problem.workspace_retries = 0
+        with pytest.raises(RuntimeError, match="mat_mumps_icntl_14"):
+            problem.solve()
+
+
+def test_an_untrustworthy_solve_raises():
+    """One Jacobi sweep 'converges' (preonly) to a wrong answer: the residual check raises."""
+    options = {"ksp_type": "preonly", "pc_type": "jacobi"}
+    with readme_problem(prefix="jacobi_", petsc_options=options) as problem:
+        with pytest.raises(RuntimeError, match="cannot be trusted"):
+            problem.solve()
+
+
+def test_krylov_failure_raises():
+    options = {"ksp_type": "cg", "pc_type": "none", "ksp_max_it": 2}
+    with readme_problem(prefix="cg_", petsc_options=options) as problem:
+        with pytest.raises(RuntimeError, match="DIVERGED_ITS"):
+            problem.solve()
+
+
+def test_fieldsplit_from_options_on_the_nest():
+    """Named fields and rigid modes reach PCFieldSplit: GMRES, one block per field."""
+    options = {
+        "ksp_type": "gmres",
+        "ksp_rtol": 1e-13,
+        "ksp_max_it": 500,
+        "pc_type": "fieldsplit",
+        "pc_fieldsplit_type": "additive",
+        "fieldsplit_u0_ksp_type": "preonly",
+        "fieldsplit_u0_pc_type": "lu",
+        "fieldsplit_u1_ksp_type": "preonly",
+        "fieldsplit_u1_pc_type": "lu",
+        "fieldsplit_lambda0_ksp_type": "preonly",
+        "fieldsplit_lambda0_pc_type": "none",
+    }
+    with readme_problem(
+        elements=(5, 3), prefix="split_", kind="nest", petsc_options=options
+    ) as problem:
+        problem.solve()
+        assert problem.A.getType() == "nest"
+        sub = problem.solver.getPC().getFieldSplitSubKSP()
+        assert [k.getOptionsPrefix() for k in sub] == [
+            "split_fieldsplit_u0_",
+            "split_fieldsplit_u1_",
+            "split_fieldsplit_lambda0_",
+        ]
+        assert max_pressure_error(problem) < 1e-8
+        for K in problem.stiffness:
+            assert K.getNearNullSpace().getVecs()  # rigid modes for GAMG
+
+
+def test_pairs_sharing_a_contactor_are_refused():
+    scene = scenes.patch_test(comm, elements=(4, 3))
+    V = {n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", 1, (2,))) for n, b in scene.bodies.items()}
+    up = contact_surface(V["upper"], scene.upper.facet_tags, scenes.BOTTOM)
+    low = contact_surface(V["lower"], scene.lower.facet_tags, scenes.TOP)
+    pairs = contact_pairs(up, low) + contact_pairs(up, low)
+    a = [MATERIALS[n].forms(V[n])[0] for n in ("lower", "upper")]
+    L = [ufl.inner(dolfinx.fem.Constant(V[n].mesh, np.zeros(2)), ufl.TestFunction(V[n])) * ufl.dx
+         for n in ("lower", "upper")]
+    with pytest.raises(ValueError, match="one multiplier field"):
+        LinearContactProblem(a, L, pairs, petsc_options_prefix="share_")
+
+
+def test_prefix_is_mandatory():
+    with pytest.raises(ValueError, match="non-empty petsc_options_prefix"):
+        readme_problem(prefix="")
