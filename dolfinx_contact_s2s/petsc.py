@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import typing
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -21,7 +22,14 @@ import ufl
 
 from dolfinx_contact_s2s.coupling import ContactPair
 
-__all__ = ["ContactProblem", "assemble_coupling", "gather_dense"]
+__all__ = [
+    "UNCOVERED_TOLERANCE",
+    "ContactProblem",
+    "CouplingOperator",
+    "assemble_coupling",
+    "gather_dense",
+    "multiplier_mass",
+]
 
 _DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
@@ -46,24 +54,28 @@ def _to_owners(
 
 def _coo_matrix(
     comm: MPI.Comm,
-    rows: npt.NDArray[np.int64],
-    cols: npt.NDArray[np.int64],
-    values: npt.NDArray[np.floating],
+    parts: Sequence[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.floating]]],
     row_map: dolfinx.common.IndexMap,
     col_map: dolfinx.common.IndexMap,
     col_bs: int,
 ) -> PETSc.Mat:
-    """Distributed AIJ matrix from local blocks ``values[s, i, j]`` at ``(rows[s, i], cols[s, j])``.
+    """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)``.
 
+    Each part holds blocks ``values[s, i, j]`` at ``(rows[s, i], cols[s, j])``.
     Entries may belong to rows owned by other processes: they are sent to their
     owners, duplicates are summed, and the matrix is created from its exact CSR
     structure.
     """
-    nr, nc = rows.shape[1], cols.shape[1]
-    i = np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1)
-    j = np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1)
+    flat_i, flat_j, flat_v = [], [], []
+    for rows, cols, values in parts:
+        nr, nc = rows.shape[1], cols.shape[1]
+        flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
+        flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
+        flat_v.append(values.reshape(-1))
+    i = np.concatenate(flat_i).astype(np.int64)
+    j = np.concatenate(flat_j).astype(np.int64)
     row_starts = np.array(comm.allgather(row_map.local_range[0]) + [row_map.size_global])
-    i, (j, v) = _to_owners(comm, i, [j, values.reshape(-1)], row_starts)
+    i, (j, v) = _to_owners(comm, i, [j, np.concatenate(flat_v)], row_starts)
     start = row_map.local_range[0]
     n_cols = col_map.size_global * col_bs
     keys, inverse = np.unique((i - start) * n_cols + j, return_inverse=True)
@@ -86,50 +98,169 @@ def _coo_matrix(
     return A
 
 
-def assemble_coupling(pair: ContactPair) -> tuple[PETSc.Mat, PETSc.Mat, PETSc.Vec]:
-    r"""Assemble the coupling of a contact pair with global indices.
+#: A multiplier is uncovered when the part of its support that faces a target carries at
+#: most this fraction of its integral.
+UNCOVERED_TOLERANCE = 1e-10
 
-    The rows of every matrix are the multiplier dofs of ``pair.Q``. With
-    :math:`b(\mathbf v, \mu)` the linear part of Eq. (17),
 
-    .. math:: b(\mathbf v, \mu) = \mathbf M^T (\mathbf B_C \mathbf V_C + \mathbf B_T
-        \mathbf V_T), \qquad \mathbf G = \int_{\Gamma_C} \mu\, g_0.
+@dataclass
+class CouplingOperator:
+    r"""The assembled coupling of a contact pair (Eqs. 17 and 40).
+
+    With :math:`b(\mathbf v, \mu)` the linear part of Eq. (17),
+
+    .. math:: b(\mathbf v, \mu) = \mathbf M^T \sum_s \mathbf B_s \mathbf V_s,
+        \qquad \mathbf G = \int_{\Gamma_C} \mu\, g_0,
+
+    summed over the distinct displacement spaces :math:`s` of the contactor and its
+    targets. The caller must :meth:`destroy` the operator.
+
+    Attributes:
+        pair: The contact pair.
+        blocks: ``(V, B_V)`` for each distinct displacement space ``V`` (contactor's
+            first): rows the multiplier dofs of ``pair.Q``, columns the (unrolled) dofs
+            of ``V``, values the sum of the contactor and target contributions on ``V``.
+        G: The gap vector, in ``pair.Q``'s layout.
+        uncovered: Global multiplier dofs whose support faces no target: the integral
+            of :math:`\mu_k` over the covered part is at most
+            :data:`UNCOVERED_TOLERANCE` times its integral. Sorted, on every process.
+    """
+
+    pair: ContactPair
+    blocks: list[tuple[dolfinx.fem.FunctionSpace, PETSc.Mat]]
+    G: PETSc.Vec
+    uncovered: npt.NDArray[np.int64]
+
+    @property
+    def inactive(self) -> npt.NDArray[np.int64]:
+        """Multipliers to set to zero: the pair's duplicates and the uncovered ones."""
+        return np.union1d(self.pair.duplicates, self.uncovered).astype(np.int64)
+
+    def block(self, V: dolfinx.fem.FunctionSpace) -> PETSc.Mat | None:
+        """The block of space ``V`` (identity by ``is``), or None."""
+        return next((B for W, B in self.blocks if W is V), None)
+
+    def destroy(self) -> None:
+        """Destroy the PETSc matrices and vector."""
+        for _, B in self.blocks:
+            B.destroy()
+        self.G.destroy()
+
+
+def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.int64]:
+    """Global multiplier dofs with no coverage (see :class:`CouplingOperator`)."""
+    Q = pair.Q
+    comm = pair.contactor.comm
+    imap = Q.dofmap.index_map
+    covered = PETSc.Vec().createMPI([imap.size_local, imap.size_global], comm=comm)
+    covered.setValues(
+        np.concatenate([r.reshape(-1) for r in rows]).astype(PETSc.IntType),
+        np.concatenate([c.reshape(-1) for c in coverage]),
+        addv=PETSc.InsertMode.ADD_VALUES,
+    )
+    covered.assemble()
+    support = dolfinx.fem.assemble_vector(
+        dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
+    )
+    support.scatter_reverse(dolfinx.la.InsertMode.add)
+    n = imap.size_local
+    none = covered.array_r <= UNCOVERED_TOLERANCE * np.abs(support.array[:n])
+    covered.destroy()
+    mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
+    return np.concatenate(comm.allgather(mine)).astype(np.int64)
+
+
+def assemble_coupling(pair: ContactPair) -> CouplingOperator:
+    r"""Assemble the coupling of a contact pair with global indices (collective).
+
+    The rows are the multiplier dofs of ``pair.Q``; there is one matrix per distinct
+    displacement space, so a contactor and a target in one mesh and space give one
+    block holding both contributions (Eq. 40, summed).
 
     Args:
         pair: The contact pair.
 
     Returns:
-        ``(B_C, B_T, G)``. The caller must ``destroy()`` them.
+        The :class:`CouplingOperator`. The caller must ``destroy()`` it.
 
     Raises:
-        ValueError: On every rank, if the two surfaces never face each other.
+        ValueError: On every rank, if the contactor faces none of its targets.
     """
-    blocks = pair.coupling_blocks()
+    groups = pair.coupling_blocks()
     comm = pair.contactor.comm
-    if comm.allreduce(blocks.rows.shape[0], op=MPI.SUM) == 0:
+    if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:
         raise ValueError(
             "the contactor and target surfaces never face each other within the search "
             f"radius {pair.search_radius:g}: there is nothing to integrate"
         )
     q_map = pair.Q.dofmap.index_map
-    spaces = (pair.contactor.V, pair.target.V)
-    B = [
-        _coo_matrix(comm, blocks.rows, cols, vals, q_map, V.dofmap.index_map, V.dofmap.index_map_bs)
-        for V, cols, vals in zip(
-            spaces,
-            (blocks.cols_contactor, blocks.cols_target),
-            (blocks.contactor, blocks.target),
-            strict=True,
-        )
+    spaces: list[dolfinx.fem.FunctionSpace] = []
+    parts: list[list] = []
+
+    def add(V: dolfinx.fem.FunctionSpace, part: tuple) -> None:
+        # Identity, not equality: the same space must give one summed block.
+        for k, W in enumerate(spaces):
+            if W is V:
+                parts[k].append(part)
+                return
+        spaces.append(V)
+        parts.append([part])
+
+    for b in groups:
+        add(pair.contactor.V, (b.rows, b.cols_contactor, b.values_contactor))
+        add(b.target.V, (b.rows, b.cols_target, b.values_target))
+    blocks = [
+        (V, _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs))
+        for V, p in zip(spaces, parts, strict=True)
     ]
     G = PETSc.Vec().createMPI([q_map.size_local, q_map.size_global], comm=comm)
-    G.setValues(
-        blocks.rows.reshape(-1).astype(PETSc.IntType),
-        blocks.gap.reshape(-1),
-        addv=PETSc.InsertMode.ADD_VALUES,
-    )
+    for b in groups:
+        G.setValues(
+            b.rows.reshape(-1).astype(PETSc.IntType),
+            b.gap.reshape(-1),
+            addv=PETSc.InsertMode.ADD_VALUES,
+        )
     G.assemble()
-    return B[0], B[1], G
+    uncovered = _uncovered(pair, [b.rows for b in groups], [b.coverage for b in groups])
+    return CouplingOperator(pair, blocks, G, uncovered)
+
+
+def _lumped(pair: ContactPair, M: PETSc.Mat) -> PETSc.Mat:
+    """Diagonal of row sums of ``M`` (the tributary lengths of the nodes)."""
+    w = M.createVecLeft()
+    M.getRowSum(w)
+    D = PETSc.Mat().createAIJ([M.getSizes()[0]] * 2, nnz=(1, 0), comm=M.getComm())
+    if pair.weight == "unit":
+        # The multiplier is the node's force w_i t_i: ||t||^2 = sum_i mu_i^2 / w_i.
+        w.reciprocal()
+    D.setDiagonal(w)
+    D.assemble()
+    w.destroy()
+    return D
+
+
+def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
+    r"""The matrix :math:`\mathbf P` of Eq. (29), over all multipliers of ``pair``.
+
+    :math:`\mathbf M^T \mathbf P \mathbf M = \|\mu_h\|^2_{0,\Gamma}`; inactive
+    multipliers are included.
+
+    The multiplier of the segment-to-segment methods and of the intermediate surface is
+    a function on its mesh: :math:`\mathbf P` is its mass matrix. Node-based methods
+    (Eqs. 37-39, ``pair.nodal``) collocate the traction at the nodes, each standing for
+    its tributary length :math:`w^i`: :math:`\mathbf P` is the lumped mass matrix, or
+    its inverse when the multiplier is the nodal force (``weight="unit"``). The caller
+    must ``destroy()`` it.
+    """
+    Q = pair.Q
+    p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+    M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * ufl.dx))
+    M.assemble()
+    if not pair.nodal:
+        return M
+    D = _lumped(pair, M)
+    M.destroy()
+    return D
 
 
 def _active_rows(pair: ContactPair, G: PETSc.Vec) -> PETSc.Vec:
@@ -238,10 +369,11 @@ class ContactProblem:
         self._B = []
         self.constraints: list[tuple[PETSc.Mat, PETSc.Mat]] = []
         for j, pair in enumerate(self.pairs):
-            B_c, B_t, G = assemble_coupling(pair)
+            op = assemble_coupling(pair)
+            G = op.G
             active = _active_rows(pair, G)
             G.pointwiseMult(G, active)
-            for Bi, V in ((B_c, pair.contactor.V), (B_t, pair.target.V)):
+            for V, Bi in op.blocks:
                 i = body(V)
                 x_bc, keep = self._dirichlet_vectors(i)
                 # -B U = G with U = U_free + U_D  =>  -B U_free = G + B U_D.

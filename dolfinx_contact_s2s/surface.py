@@ -6,7 +6,8 @@ A :class:`ContactSurface` holds, for every *owned* facet carrying a tag, the cel
 belongs to, its local facet number, the cell's geometry nodes and the global
 indices of the displacement degrees of freedom of that cell. It evaluates points,
 tangents and outward normals on the facets in batches, which is all the coupling
-assembly of :mod:`dolfinx_contact_s2s.coupling` needs.
+assembly of :mod:`dolfinx_contact_s2s.coupling` needs. The batched geometry runs in a
+kernel backend (:func:`dolfinx_contact_s2s.kernels.get_backend`); Basix tabulates.
 
 Facets are parametrised by :math:`\xi \in [0, 1]` along the straight reference
 facet, :math:`X(\xi) = X_a + \xi (X_b - X_a)`, where :math:`X_a, X_b` are the
@@ -27,6 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
+from dolfinx_contact_s2s.kernels import get_backend
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "tabulate"]
 
@@ -56,12 +58,19 @@ class SurfaceData:
             shape ``(num_facets, num_cell_dofs * bs)``.
         facets: Process-local facet index in the body's mesh (``-1`` for rows
             gathered from another process).
+        coefficients: Monomial coefficients of the facet's geometry in its parameter,
+            shape ``(num_facets, p + 1, gdim)`` (see
+            :func:`~dolfinx_contact_s2s.kernels.numpy_backend.facet_coefficients`).
+        orientation: ``+1`` or ``-1``: the sign that turns the facet's tangent into its
+            outward normal.
     """
 
     coords: npt.NDArray[np.floating]
     local_facet: npt.NDArray[np.int32]
     dofs: npt.NDArray[np.int64]
     facets: npt.NDArray[np.int32]
+    coefficients: npt.NDArray[np.floating]
+    orientation: npt.NDArray[np.floating]
 
     def __len__(self) -> int:
         """Number of facets."""
@@ -71,17 +80,27 @@ class SurfaceData:
 class ContactSurface:
     """The tagged, owned boundary facets of one body and their displacement space."""
 
-    def __init__(self, V: dolfinx.fem.FunctionSpace, facet_tags: dolfinx.mesh.MeshTags, tag: int):
+    def __init__(
+        self,
+        V: dolfinx.fem.FunctionSpace,
+        facet_tags: dolfinx.mesh.MeshTags,
+        tag: int,
+        *,
+        backend: str = "numpy",
+    ):
         """Collect the facets of ``facet_tags`` marked ``tag`` on the mesh of ``V``.
 
         Args:
             V: Vector-valued Lagrange displacement space of the body.
             facet_tags: Facet markers of the body's mesh.
             tag: Marker of the contact surface.
+            backend: Kernel backend of the facet geometry, see
+                :func:`dolfinx_contact_s2s.kernels.get_backend`.
 
         Raises:
-            ValueError: On every rank, if no process holds a facet with ``tag``, or if
-                ``V`` is not a vector Lagrange space on a 2D triangle or quadrilateral mesh.
+            ValueError: On every rank, if no process holds a facet with ``tag``, if a
+                tagged facet is not on the mesh boundary, or if ``V`` is not a vector
+                Lagrange space on a 2D triangle or quadrilateral mesh.
         """
         mesh = V.mesh
         comm = mesh.comm
@@ -114,8 +133,11 @@ class ContactSurface:
         mesh.topology.create_connectivity(tdim, fdim)
         f_to_c = mesh.topology.connectivity(fdim, tdim)
         c_to_f = mesh.topology.connectivity(tdim, fdim)
-        num_links = f_to_c.offsets[facets + 1] - f_to_c.offsets[facets]
-        interior = comm.allreduce(int(np.count_nonzero(num_links != 1)), op=MPI.SUM)
+        # Counting local cells is not enough: without ghost cells an interior facet on a
+        # partition boundary has one local cell. DOLFINx's exterior facets exclude those.
+        exterior = dolfinx.mesh.exterior_facet_indices(mesh.topology)
+        outside = np.count_nonzero(~np.isin(facets, exterior, assume_unique=True))
+        interior = comm.allreduce(int(outside), op=MPI.SUM)
         if interior:
             raise ValueError(f"contact facets must be on the boundary (tag {tag})")
         cells = f_to_c.array[f_to_c.offsets[facets]].astype(np.int32)
@@ -138,9 +160,9 @@ class ContactSurface:
         self.tag = tag
         self.tagged_facets = np.unique(marked).astype(np.int32)
         self.cells = cells
-        self.data = SurfaceData(coords, local_facet, dofs.astype(np.int64), facets)
         self.cell_type = basix.CellType[cell_name]
         self.element = scalar
+        self.backend = get_backend(backend)
         # Scalar Basix element of the coordinate map (tabulates derivatives).
         self.cmap = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element())
         ref_x = basix.geometry(self.cell_type)
@@ -148,6 +170,37 @@ class ContactSurface:
         self._ref_a = ref_x[facet_vertices[:, 0]]
         self._ref_b = ref_x[facet_vertices[:, 1]]
         self._ref_normals = np.asarray(basix.cell.facet_outward_normals(self.cell_type))
+        self._facet_basis = self._facet_monomials()
+
+        coefficients = self.backend.facet_coefficients(self._facet_basis, local_facet, coords)
+        # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
+        rows = np.arange(cells.size, dtype=np.int32)
+        half = np.full(cells.size, 0.5)
+        X = self._ref_a[local_facet] + 0.5 * (self._ref_b[local_facet] - self._ref_a[local_facet])
+        tab = tabulate(self.cmap, 1, X)
+        n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
+        _, dx = self.backend.evaluate(coefficients, rows, half)
+        turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
+        orientation = np.where(turn < 0.0, -1.0, 1.0)
+        self.data = SurfaceData(
+            coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
+        )
+
+    def _facet_monomials(self) -> npt.NDArray[np.floating]:
+        r"""Monomial coefficients in :math:`\xi` of the coordinate basis on each reference facet.
+
+        The degree-:math:`p` coordinate map restricted to a straight reference facet is a
+        polynomial of degree :math:`p` in :math:`\xi`: Basix tabulates it at
+        :math:`p + 1` equispaced points, a Vandermonde solve gives the coefficients.
+        """
+        p = self.cmap.degree
+        xi = np.linspace(0.0, 1.0, p + 1)
+        vandermonde = np.vander(xi, p + 1, increasing=True)
+        out = []
+        for a, b in zip(self._ref_a, self._ref_b, strict=True):
+            tab = tabulate(self.cmap, 0, a[None, :] + xi[:, None] * (b - a)[None, :])[0]
+            out.append(np.linalg.solve(vandermonde, tab))
+        return np.ascontiguousarray(np.stack(out))
 
     @property
     def comm(self) -> MPI.Comm:
@@ -162,6 +215,8 @@ class ContactSurface:
             np.concatenate([p.local_facet for p in parts]),
             np.concatenate([p.dofs for p in parts]),
             np.full(sum(len(p) for p in parts), -1, dtype=np.int32),
+            np.concatenate([p.coefficients for p in parts]),
+            np.concatenate([p.orientation for p in parts]),
         )
 
     # Batched evaluation. ``rows`` selects facets of ``data``, one per point.
@@ -193,42 +248,16 @@ class ContactSurface:
             ``(X, x, dx)`` or ``(X, x, dx, ddx)``: reference points, physical points and
             their derivatives with respect to :math:`\xi`, each of shape ``(n, gdim)``.
         """
+        xi = np.ascontiguousarray(xi, dtype=np.float64)
         X = self.reference_points(data, rows, xi)
-        lf = data.local_facet[rows]
-        d = self._ref_b[lf] - self._ref_a[lf]
-        tab, coords, x, J = self._map(data, rows, X, derivatives)
-        dx = np.einsum("pgd,pd->pg", J, d)
-        if derivatives == 1:
-            return X, x, dx
-        # Second derivatives along d: phi_xx d0^2 + 2 phi_xy d0 d1 + phi_yy d1^2.
-        d2 = (
-            tab[3] * d[:, 0:1] ** 2 + 2 * tab[4] * (d[:, 0:1] * d[:, 1:2]) + tab[5] * d[:, 1:2] ** 2
-        )
-        ddx = np.einsum("pk,pkg->pg", d2, coords)
-        return X, x, dx, ddx
-
-    def _map(
-        self,
-        data: SurfaceData,
-        rows: npt.NDArray[np.int32],
-        X: npt.NDArray[np.floating],
-        derivatives: int,
-    ) -> tuple[npt.NDArray[np.floating], ...]:
-        """Coordinate-map tables, cell nodes, points and Jacobians at reference points."""
-        tab = tabulate(self.cmap, derivatives, X)
-        coords = data.coords[rows]
-        x = np.einsum("pk,pkg->pg", tab[0], coords)
-        J = np.einsum("pkg,dpk->pgd", coords, tab[1:3])
-        return tab, coords, x, J
+        return (X, *self.backend.evaluate(data.coefficients, rows, xi, derivatives))
 
     def outward_normals(
-        self, data: SurfaceData, rows: npt.NDArray[np.int32], X: npt.NDArray[np.floating]
+        self, data: SurfaceData, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
-        r"""Unit outward normals :math:`J^{-T} \hat n / |J^{-T} \hat n|` at reference points."""
-        J = self._map(data, rows, X, 1)[3]
-        n_ref = self._ref_normals[data.local_facet[rows], :, None]
-        n = np.linalg.solve(np.swapaxes(J, 1, 2), n_ref)[:, :, 0]
-        return n / np.linalg.norm(n, axis=1)[:, None]
+        r"""Unit outward normals :math:`J^{-T} \hat n / |J^{-T} \hat n|` at facet parameters."""
+        xi = np.ascontiguousarray(xi, dtype=np.float64)
+        return self.backend.outward_normals(data.coefficients, data.orientation, rows, xi)
 
     def basis(self, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
         """Scalar displacement basis functions at reference points, shape ``(n, num_dofs)``."""
@@ -247,17 +276,7 @@ class ContactSurface:
         facet whose normal passes through ``p`` (Fig. 15(b): target nodes projected onto
         the contactor). One step is exact on straight facets.
         """
-        xi = np.full(rows.size, 0.5)
-        for _ in range(iterations):
-            _, x, dx, ddx = self.evaluate(data, rows, xi, derivatives=2)
-            r = x - points
-            f = np.einsum("pg,pg->p", r, dx)
-            df = np.einsum("pg,pg->p", dx, dx) + np.einsum("pg,pg->p", r, ddx)
-            step = f / df
-            xi = xi - step
-            if np.all(np.abs(step) < 1e-15):
-                break
-        return xi
+        return self.backend.project(data.coefficients, rows, points, iterations)
 
     def intersect(
         self,
@@ -272,17 +291,7 @@ class ContactSurface:
         Solves :math:`(x(\eta) - o) \times N = 0` by Newton's method: the target point
         :math:`x_T^{i*}` of a contactor integration point along the normal (Eq. 38, Fig. 7(b)).
         """
-        perp = np.stack([-directions[:, 1], directions[:, 0]], axis=1)
-        eta = np.full(rows.size, 0.5)
-        for _ in range(iterations):
-            _, x, dx = self.evaluate(data, rows, eta)
-            f = np.einsum("pg,pg->p", x - origins, perp)
-            df = np.einsum("pg,pg->p", dx, perp)
-            step = f / df
-            eta = eta - step
-            if np.all(np.abs(step) < 1e-15):
-                break
-        return eta
+        return self.backend.intersect(data.coefficients, rows, origins, directions, iterations)
 
     def bounding_boxes(self, data: SurfaceData, samples: int = 5) -> npt.NDArray[np.floating]:
         """Axis-aligned boxes ``(num_facets, 2, gdim)`` of the facets, from sample points.
@@ -309,7 +318,11 @@ class ContactSurface:
 
 
 def contact_surface(
-    V: dolfinx.fem.FunctionSpace, facet_tags: dolfinx.mesh.MeshTags, tag: int
+    V: dolfinx.fem.FunctionSpace,
+    facet_tags: dolfinx.mesh.MeshTags,
+    tag: int,
+    *,
+    backend: str = "numpy",
 ) -> ContactSurface:
     """Create the :class:`ContactSurface` of facets marked ``tag`` on the mesh of ``V``."""
-    return ContactSurface(V, facet_tags, tag)
+    return ContactSurface(V, facet_tags, tag, backend=backend)

@@ -11,9 +11,9 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.coupling import box_pairs
 from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
 from dolfinx_contact_s2s.scenes import patch_test
+from dolfinx_contact_s2s.search import box_pairs
 
 # Gmsh places transfinite nodes within a few 1e-12 of i * W / n, not exactly there.
 GEOMETRY_NOISE = 1e-10
@@ -43,6 +43,16 @@ def _ufl_trace_block(V, facet_tags, tag, degree, sign):
     D = gather_dense(A)
     A.destroy()
     return D, _dof_coordinates(W)
+
+
+def _dense(pair, *spaces):
+    """Dense coupling block of each space (in the order given) and the gap vector."""
+    op = assemble_coupling(pair)
+    assert len(op.blocks) == len(spaces)
+    out = [gather_dense(op.block(V)) for V in spaces]
+    g = np.concatenate(pair.contactor.comm.allgather(op.G.array_r.copy()))
+    op.destroy()
+    return (*out, g)
 
 
 def _rows_by_coordinates(x_from, x_to):
@@ -79,10 +89,7 @@ def test_coupling_matches_ufl(elements, degree, cell, matching, contactor):
     }
     surf = {n: contact_surface(spaces[n], bodies[n].facet_tags, bodies[n].contact) for n in bodies}
     pair = contact_pair(surf[contactor], surf[target])
-    B_c, B_t, G = assemble_coupling(pair)
-    Bc, Bt = gather_dense(B_c), gather_dense(B_t)
-    for obj in (B_c, B_t, G):
-        obj.destroy()
+    Bc, Bt, _ = _dense(pair, spaces[contactor], spaces[target])
     xq = _dof_coordinates(pair.Q)
 
     ref_c, xw = _ufl_trace_block(
@@ -119,10 +126,10 @@ def test_gap_vector_is_integral_of_g0(gap, degree):
         for n, b in scene.bodies.items()
     }
     surf = {n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()}
-    B_c, B_t, G = assemble_coupling(contact_pair(surf["upper"], surf["lower"]))
-    assert np.isclose(G.sum(), gap * scene.width, rtol=0, atol=1e-14)
-    for obj in (B_c, B_t, G):
-        obj.destroy()
+    op = assemble_coupling(contact_pair(surf["upper"], surf["lower"]))
+    assert np.isclose(op.G.sum(), gap * scene.width, rtol=0, atol=1e-14)
+    assert op.uncovered.size == 0 and op.inactive.size == 0
+    op.destroy()
 
 
 @pytest.mark.skip_in_parallel
@@ -199,10 +206,7 @@ def test_hand_computed_block(quadrature):
         spaces[name] = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
         surf[name] = contact_surface(spaces[name], tags, 7)
     pair = contact_pair(surf["upper"], surf["lower"], quadrature=quadrature)
-    B_c, B_t, G = assemble_coupling(pair)
-    Bc, Bt = gather_dense(B_c), gather_dense(B_t)
-    for obj in (B_c, B_t, G):
-        obj.destroy()
+    Bc, Bt, _ = _dense(pair, spaces["upper"], spaces["lower"])
 
     xq = _dof_coordinates(pair.Q)[:, 0]
     rows = np.argsort(xq)  # multiplier at x = 0, then x = 1

@@ -1,0 +1,500 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The rules of each contact discretization of El-Abbasi & Bathe (2001).
+
+A discretization fixes three things (sections 4 and 5): the multiplier space (Eq. 16
+on the contactor facets, point values, or the intermediate segments of section 4.4),
+the contactor points with their weights :math:`w^i` (nodes, Eqs. 37 and 39; Gauss or
+Newton-Cotes points of the contactor segments, Fig. 15(a); or of the sub-segments of
+the new algorithm, Eqs. 40-42 and Fig. 15(b)-(c)), and which target each point meets.
+Each is a small class; :data:`DISCRETIZATIONS` maps the method names of
+:class:`~dolfinx_contact_s2s.coupling.ContactPair` to them, so the method string is
+read once, when the pair is built.
+"""
+
+from __future__ import annotations
+
+import typing
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from mpi4py import MPI
+
+import basix
+import basix.ufl
+import dolfinx
+import numpy as np
+import numpy.typing as npt
+
+from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
+from dolfinx_contact_s2s.quadrature import interval_rule
+from dolfinx_contact_s2s.search import find_targets, node_offsets, sub_segments
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
+
+if typing.TYPE_CHECKING:
+    from dolfinx_contact_s2s.coupling import ContactPair
+
+__all__ = [
+    "DISCRETIZATIONS",
+    "Discretization",
+    "IntermediateSurface",
+    "MultiplierSpace",
+    "NodeToNode",
+    "NodeToSegment",
+    "NodeToSegmentGauss",
+    "PointGroups",
+    "SegmentToSegment",
+]
+
+
+@dataclass(frozen=True)
+class MultiplierSpace:
+    r"""The multiplier space of a pair and its place on the contactor facets.
+
+    Attributes:
+        Q: The multiplier function space.
+        element: Its scalar Basix-UFL element.
+        cells: Cell of ``Q``'s mesh on each contactor facet row (empty for a space that
+            does not live on the contactor facets).
+        flip: Whether the cell runs against the contactor facet parameter
+            (:math:`s = 1 - \xi`), per contactor facet row.
+    """
+
+    Q: dolfinx.fem.FunctionSpace
+    element: typing.Any
+    cells: npt.NDArray[np.int32]
+    flip: npt.NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class PointGroups:
+    """Integration points of Eq. (40) against one target, grouped by (sub-)segment.
+
+    Attributes:
+        contactor: Contactor facet row of each group, ``(S,)``.
+        target: Target facet row (gathered data) of each group, ``(S,)``.
+        xi: Contactor facet parameter of each point, ``(S, Q)``.
+        weights: Weight of each point including the length element, ``(S, Q)``.
+        rows: Global multiplier dofs of each group, ``(S, nk)``.
+    """
+
+    contactor: npt.NDArray[np.int32]
+    target: npt.NDArray[np.int32]
+    xi: npt.NDArray[np.floating]
+    weights: npt.NDArray[np.floating]
+    rows: npt.NDArray[np.int64]
+
+
+def facet_space(
+    contactor: ContactSurface, degree: int, discontinuous: bool, variant: basix.LagrangeVariant
+) -> MultiplierSpace:
+    """A Lagrange space of Eq. (16) on a submesh of the contactor's tagged facets."""
+    mesh = contactor.V.mesh
+    fdim = mesh.topology.dim - 1
+    imap = mesh.topology.index_map(fdim)
+    num_facets = imap.size_local + imap.num_ghosts
+    submesh, entity_map, _, _ = dolfinx.mesh.create_submesh(mesh, fdim, contactor.tagged_facets)
+    sub_map = submesh.topology.index_map(fdim)
+    num_sub = sub_map.size_local + sub_map.num_ghosts
+    parent = submesh_parent_entities(entity_map, num_sub)
+    parent_to_sub = np.full(num_facets, -1, dtype=np.int32)
+    parent_to_sub[parent] = np.arange(num_sub, dtype=np.int32)
+    element = basix.ufl.element(
+        "Lagrange",
+        submesh.basix_cell(),
+        degree,
+        lagrange_variant=variant,
+        discontinuous=discontinuous,
+    )
+    Q = dolfinx.fem.functionspace(submesh, element)
+    cells = parent_to_sub[contactor.data.facets]
+
+    # The submesh cell may run against the facet parametrisation: s = xi or 1 - xi.
+    data = contactor.data
+    rows = np.arange(len(data), dtype=np.int32)
+    _, x0, _ = contactor.evaluate(data, rows, np.zeros(rows.size))
+    sub_x = submesh.geometry.x[geometry_dofmap(submesh)[cells, 0], : x0.shape[1]]
+    flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (1.0 + np.linalg.norm(x0, axis=1))
+    return MultiplierSpace(Q, element, cells, flip)
+
+
+def cell_rows(space: MultiplierSpace, c_rows: npt.NDArray[np.int32]) -> npt.NDArray[np.int64]:
+    """Global multiplier dofs of the cells on contactor facet rows ``c_rows``, ``(S, nk)``."""
+    qmap = space.Q.dofmap
+    local = qmap.list[space.cells[c_rows]]
+    rows = qmap.index_map.local_to_global(local.reshape(-1)).reshape(local.shape)
+    return rows.astype(np.int64)
+
+
+def _multiplicity(space: MultiplierSpace) -> npt.NDArray[np.floating]:
+    """Number of contactor facets (over all processes) that share each multiplier dof."""
+    count = dolfinx.fem.Function(space.Q)
+    np.add.at(count.x.array, space.Q.dofmap.list[space.cells].reshape(-1), 1.0)
+    count.x.scatter_reverse(dolfinx.la.InsertMode.add)
+    count.x.scatter_forward()
+    return count.x.array
+
+
+def _facet_integrals(pair: ContactPair) -> npt.NDArray[np.floating]:
+    r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet."""
+    cs, C, space = pair.contactor, pair.contactor.data, pair.multiplier
+    n = len(C)
+    s_ref, w_ref = interval_rule("gauss", pair.multiplier_degree + 3)
+    rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
+    xi = np.tile(s_ref, n)
+    _, _, dx = cs.evaluate(C, rows, xi)
+    s_sub = np.where(space.flip[rows], 1.0 - xi, xi)
+    mu = tabulate(space.element, 0, s_sub[:, None])[0]
+    w = (np.tile(w_ref, n) * np.linalg.norm(dx, axis=1))[:, None] * mu
+    return w.reshape(n, s_ref.size, mu.shape[1]).sum(axis=1)
+
+
+class Discretization:
+    """Rules shared by the discretizations; subclasses override what differs.
+
+    Attributes:
+        nodal: The multipliers are nodal values (collocation, Eqs. 37-39).
+        drops_coincident: The method can leave out nodes meeting a target node (two-pass).
+        default_quadrature: Rule used when the pair names none.
+        own_multiplier: The method defines its own multiplier space.
+        fixed_multiplier: ``(family, degree)`` that method's space starts from.
+    """
+
+    nodal: bool = False
+    drops_coincident: bool = False
+    default_quadrature: str = "composite-gauss"
+    own_multiplier: bool = False
+    fixed_multiplier: tuple[str, int] | None = None
+
+    def __init__(self, method: str):
+        """Rules of ``method`` (one of :data:`DISCRETIZATIONS`)."""
+        self.method = method
+
+    def check(
+        self,
+        contactor: ContactSurface,
+        targets: Sequence[ContactSurface],
+        quadrature: str,
+        multiplier: tuple[str, int] | None,
+    ) -> None:
+        """Raise ValueError (on every rank: the inputs are the same) for a bad choice."""
+        if self.own_multiplier and multiplier is not None:
+            raise ValueError(f"{self.method} defines its own multiplier space")
+
+    def weight(self, weight: str) -> str:
+        """The weight actually used (``"unit"`` or ``"tributary"``)."""
+        return weight
+
+    def multiplier(
+        self, continuous: bool, degree: int, quadrature_points: int
+    ) -> tuple[bool, int, basix.LagrangeVariant]:
+        """Continuity, degree and Lagrange variant of the multiplier space."""
+        variant = basix.LagrangeVariant.unset
+        if degree > 2 or (not continuous and degree > 0):
+            variant = basix.LagrangeVariant.gll_warped
+        return continuous, degree, variant
+
+    def label(self, continuous: bool, degree: int) -> str:
+        r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
+        return f"M^{int(continuous)}_{{h,{degree}}}"
+
+    def space(self, pair: ContactPair) -> MultiplierSpace:
+        """The multiplier space of ``pair`` (Eq. 16 on the contactor facets)."""
+        variant = pair.multiplier_variant
+        return facet_space(
+            pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant
+        )
+
+    def duplicates(
+        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+    ) -> npt.NDArray[np.int64]:
+        """Global multiplier dofs left out at construction (none by default)."""
+        return np.empty(0, dtype=np.int64)
+
+    def point_rule(self, pair: ContactPair) -> tuple[npt.NDArray, ...]:
+        """Contactor points of a point-based method: ``(rows, xi, weights, dofs)``.
+
+        The points of ``pair.rule`` on every contactor segment (Fig. 15(a)), weighted by
+        the rule's weight times the length element; ``dofs`` is -1 (no nodal dof).
+        """
+        cs, C = pair.contactor, pair.contactor.data
+        n = len(C)
+        s_ref, w_ref = pair.rule
+        rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
+        xi = np.tile(s_ref, n)
+        _, _, dx = cs.evaluate(C, rows, xi)
+        weights = np.tile(w_ref, n) * np.linalg.norm(dx, axis=1)
+        return rows, xi, weights, np.full(rows.size, -1, dtype=np.int32)
+
+    def hits(
+        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+    ) -> tuple[tuple[npt.NDArray, ...], npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+        """The points of :meth:`point_rule` that meet a target, the target and its facet."""
+        rows, xi, weights, dofs = self.point_rule(pair)
+        hit = find_targets(pair.contactor, rows, xi, pair.targets, gathered, pair.search_radius)
+        p = hit.points
+        return (rows[p], xi[p], weights[p], dofs[p]), hit.target, hit.rows
+
+    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+        """Integration points against each target (one group per point, Eqs. 37-39)."""
+        (rows, xi, weights, _), which, t_rows = self.hits(pair, gathered)
+        out = []
+        for j in range(len(pair.targets)):
+            sel = which == j
+            r = rows[sel]
+            out.append(
+                PointGroups(
+                    r, t_rows[sel], xi[sel, None], weights[sel, None], cell_rows(pair.multiplier, r)
+                )
+            )
+        return out
+
+
+class SegmentToSegment(Discretization):
+    """Segment-to-segment (section 5, Eqs. 40-42): Eq. (17) integrated by a rule.
+
+    ``composite-`` rules integrate on the sub-segments bounded by the nodes of the
+    contactor and of every target (Fig. 15(b)-(c), the new algorithm; a contactor facet
+    facing two targets is integrated on both pieces); the others on the contactor
+    segments only (Fig. 15(a)).
+    """
+
+    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+        """Sub-segment points (composite rules) or contactor segment points."""
+        if not pair.quadrature.startswith("composite-"):
+            return super().points(pair, gathered)
+        cs, C = pair.contactor, pair.contactor.data
+        s_ref, w_ref = pair.rule
+        out = []
+        for target, T in zip(pair.targets, gathered, strict=True):
+            seg = sub_segments(cs, target, T, pair.search_radius)
+            length = seg.hi - seg.lo
+            xi = seg.lo[:, None] + length[:, None] * s_ref[None, :]
+            _, _, dx = cs.evaluate(C, np.repeat(seg.contactor, s_ref.size), xi.reshape(-1))
+            jac = np.linalg.norm(dx, axis=1).reshape(xi.shape)
+            weights = length[:, None] * w_ref[None, :] * jac
+            rows = cell_rows(pair.multiplier, seg.contactor)
+            out.append(PointGroups(seg.contactor, seg.target, xi, weights, rows))
+        return out
+
+
+class NodeToSegment(Discretization):
+    """Node-to-segment (Eqs. 38-39): one constraint per contactor node.
+
+    The weight is :math:`w^i = 1` (``"unit"``, the multiplier is a nodal force) or the
+    node's tributary length (``"tributary"``, a pressure). Each node meets the nearest
+    target along its normal. With ``drop_coincident`` (the second pass of section 4.3)
+    nodes meeting a target node are left out: :meth:`duplicates`.
+    """
+
+    nodal = True
+    drops_coincident = True
+
+    def check(self, contactor, targets, quadrature, multiplier) -> None:
+        """Nodal multipliers: continuous, of the contactor's degree."""
+        super().check(contactor, targets, quadrature, multiplier)
+        family, degree = (
+            ("Lagrange", contactor.element.degree) if multiplier is None else multiplier
+        )
+        if family not in ("Lagrange", "P", "CG") or degree != contactor.element.degree:
+            raise ValueError(f"{self.method} puts one multiplier on every contactor node")
+
+    def point_rule(self, pair: ContactPair) -> tuple[npt.NDArray, ...]:
+        """Every multiplier node on every contactor facet, with its weight (Eq. 39)."""
+        space, n = pair.multiplier, len(pair.contactor.data)
+        # Every multiplier dof sits on a contactor node; s is the submesh parameter.
+        s_nodes = space.element.basix_element.points[:, 0]
+        k = s_nodes.size
+        rows = np.repeat(np.arange(n, dtype=np.int32), k)
+        s = np.tile(s_nodes, n)
+        xi = np.where(space.flip[rows], 1.0 - s, s)
+        dofs = space.Q.dofmap.list[space.cells].reshape(-1)
+        if pair.weight == "unit":
+            weights = 1.0 / _multiplicity(space)[dofs]
+        else:
+            weights = _facet_integrals(pair).reshape(-1)
+        return rows, xi, weights, dofs
+
+    def coincident(
+        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+    ) -> tuple[npt.NDArray[np.bool_], npt.NDArray]:
+        """Whether each hitting node meets a target node (within 1e-8 of the element size)."""
+        (rows, xi, _, dofs), which, t_rows = self.hits(pair, gathered)
+        local_h = min(
+            (
+                float(np.min(t.sizes(T), initial=np.inf))
+                for t, T in zip(pair.targets, gathered, strict=True)
+            ),
+            default=np.inf,
+        )
+        h = pair.contactor.comm.allreduce(local_h, op=MPI.MIN)
+        offsets = np.empty(rows.size)
+        for j, (t, T) in enumerate(zip(pair.targets, gathered, strict=True)):
+            sel = which == j
+            offsets[sel] = node_offsets(pair.contactor, rows[sel], xi[sel], t, T, t_rows[sel])
+        return offsets <= 1e-8 * h, dofs
+
+    def duplicates(
+        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+    ) -> npt.NDArray[np.int64]:
+        """With ``drop_coincident``: the multipliers of nodes that meet a target node."""
+        if not pair.drop_coincident:
+            return np.empty(0, dtype=np.int64)
+        coincident, dofs = self.coincident(pair, gathered)
+        imap = pair.Q.dofmap.index_map
+        local = np.unique(dofs[coincident])
+        mine = imap.local_to_global(local.astype(np.int32)).astype(np.int64)
+        return np.unique(np.concatenate(pair.contactor.comm.allgather(mine)))
+
+
+class NodeToNode(NodeToSegment):
+    """Node-to-node (Eq. 37): node-to-segment with unit weights on coincident nodes."""
+
+    drops_coincident = False
+
+    def weight(self, weight: str) -> str:
+        """Always ``"unit"``."""
+        return "unit"
+
+    def duplicates(
+        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+    ) -> npt.NDArray[np.int64]:
+        """None; raise ValueError on every rank unless the nodes of both sides coincide."""
+        coincident, _ = self.coincident(pair, gathered)
+        # Every contactor node meets a target node, and there are as many of each.
+        num_nodes = 0
+        seen: list[dolfinx.fem.FunctionSpace] = []
+        nodes: list[npt.NDArray[np.int64]] = []
+        for t, T in zip(pair.targets, gathered, strict=True):
+            closure = t.element.basix_element.entity_closure_dofs[1]
+            bs = t.V.dofmap.index_map_bs
+            facet_nodes = np.array([closure[lf] for lf in T.local_facet], dtype=np.int64)
+            mine = (
+                np.take_along_axis(T.dofs[:, ::bs], facet_nodes, axis=1).reshape(-1)
+                if facet_nodes.size
+                else np.empty(0, dtype=np.int64)
+            )
+            index = next((i for i, V in enumerate(seen) if V is t.V), None)
+            if index is None:
+                seen.append(t.V)
+                nodes.append(mine)
+            else:
+                nodes[index] = np.concatenate([nodes[index], mine])
+        num_nodes = sum(np.unique(n).size for n in nodes)
+        same_count = num_nodes == pair.Q.dofmap.index_map.size_global
+        if not same_count or pair.contactor.comm.allreduce(int(np.count_nonzero(~coincident))):
+            raise ValueError(
+                "node-to-node contact needs coincident nodes on the two surfaces; "
+                "use node-to-segment or segment-to-segment on non-matching meshes"
+            )
+        return np.empty(0, dtype=np.int64)
+
+
+class NodeToSegmentGauss(Discretization):
+    """The node-to-segment constraint at the contactor's Gauss points [21, 22].
+
+    One discontinuous multiplier per Gauss point: Lagrange at the Gauss points.
+    """
+
+    default_quadrature = "gauss"
+    own_multiplier = True
+
+    def check(self, contactor, targets, quadrature, multiplier) -> None:
+        """Only the plain Gauss rule."""
+        super().check(contactor, targets, quadrature, multiplier)
+        if quadrature != "gauss":
+            raise ValueError("node-to-segment-gauss constrains the contactor's Gauss points")
+
+    def multiplier(self, continuous, degree, quadrature_points):
+        """Discontinuous Lagrange of degree ``points - 1`` at the Gauss points."""
+        return False, quadrature_points - 1, basix.LagrangeVariant.gl_warped
+
+    def label(self, continuous: bool, degree: int) -> str:
+        """``"point values"``."""
+        return "point values"
+
+
+class IntermediateSurface(Discretization):
+    """The intermediate contact surface (section 4.4, Fig. 13, linear 2D surfaces [24]).
+
+    The nodes of both surfaces are projected onto a surface midway between them; one
+    constant pressure per segment between projected nodes, integrated exactly there.
+    The multiplier lives on a mesh of those segments (against every target).
+    """
+
+    own_multiplier = True
+    fixed_multiplier = ("DG", 0)
+
+    def check(self, contactor, targets, quadrature, multiplier) -> None:
+        """Linear surfaces and the composite Gauss rule only."""
+        super().check(contactor, targets, quadrature, multiplier)
+        linear = all(s.element.degree == 1 and s.cmap.degree == 1 for s in (contactor, *targets))
+        if not linear:
+            raise ValueError("the intermediate contact surface is for linear 2D surfaces")
+        if quadrature != "composite-gauss":
+            raise ValueError("the intermediate surface integrates its own segments exactly")
+
+    def label(self, continuous: bool, degree: int) -> str:
+        """``"M^0_{h,0} (intermediate)"``."""
+        return "M^0_{h,0} (intermediate)"
+
+    def space(self, pair: ContactPair) -> MultiplierSpace:
+        """A mesh of the intermediate segments and a piecewise-constant multiplier on it."""
+        cs, C, comm = pair.contactor, pair.contactor.data, pair.contactor.comm
+        self._segments = []
+        mids = []
+        for target in pair.targets:
+            T = target.gather()
+            seg = sub_segments(cs, target, T, pair.search_radius)
+            # Points midway between the contactor's sub-segment ends and their target points.
+            rows = np.repeat(seg.contactor, 2)
+            xi = np.stack([seg.lo, seg.hi], axis=1).reshape(-1)
+            _, x, _ = cs.evaluate(C, rows, xi)
+            t_rows = np.repeat(seg.target, 2)
+            eta = np.clip(target.intersect(T, t_rows, x, -cs.outward_normals(C, rows, xi)), 0, 1)
+            _, x_t, _ = target.evaluate(T, t_rows, eta)
+            self._segments.append(seg)
+            mids.append(0.5 * (x + x_t))
+        x = np.concatenate(mids)
+        n = x.shape[0] // 2
+        offset = comm.exscan(n) or 0
+        cells = (2 * offset + np.arange(2 * n, dtype=np.int64)).reshape(n, 2)
+        coordinate = basix.ufl.element("Lagrange", "interval", 1, shape=(x.shape[1],))
+        mesh = dolfinx.mesh.create_mesh(comm, cells=cells, x=x, e=coordinate)
+        element = basix.ufl.element("DG", "interval", 0)
+        Q = dolfinx.fem.functionspace(mesh, element)
+        # DOLFINx redistributes the cells: find each segment's multiplier dof again.
+        original = np.asarray(mesh.topology.original_cell_index, dtype=np.int64)
+        imap = Q.dofmap.index_map
+        dofs = imap.local_to_global(Q.dofmap.list[: original.size, 0].astype(np.int32))
+        lookup = np.empty(comm.allreduce(n), dtype=np.int64)
+        for orig, gdofs in comm.allgather((original, dofs)):
+            lookup[orig] = gdofs
+        self._rows = lookup[offset + np.arange(n)]
+        self._lengths = np.linalg.norm(x[1::2] - x[0::2], axis=1)
+        return MultiplierSpace(
+            Q, element, np.empty(0, dtype=np.int32), np.zeros(len(C), dtype=bool)
+        )
+
+    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+        """The rule on the intermediate segments, mapped linearly onto the sub-segments."""
+        s_ref, w_ref = pair.rule
+        out, start = [], 0
+        for seg in self._segments:
+            stop = start + len(seg)
+            xi = seg.lo[:, None] + (seg.hi - seg.lo)[:, None] * s_ref[None, :]
+            weights = self._lengths[start:stop, None] * w_ref[None, :]
+            rows = self._rows[start:stop, None]
+            out.append(PointGroups(seg.contactor, seg.target, xi, weights, rows))
+            start = stop
+        return out
+
+
+#: The discretization of each method name (sections 4 and 5).
+DISCRETIZATIONS: dict[str, type[Discretization]] = {
+    "segment-to-segment": SegmentToSegment,
+    "node-to-segment": NodeToSegment,
+    "node-to-segment-gauss": NodeToSegmentGauss,
+    "node-to-node": NodeToNode,
+    "intermediate-surface": IntermediateSurface,
+}

@@ -1,0 +1,238 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Contact search: which contactor facets face which target facets, and where.
+
+Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.coupling`:
+
+- candidate pairs of facets from bounding boxes padded by the search radius
+  (:func:`box_pairs`, :func:`candidates`);
+- the sub-segments of the new algorithm (section 5, Fig. 15(b)): contactor facets cut
+  at the projections of the target's corner nodes (:func:`sub_segments`);
+- the target point :math:`x_T^{i*}` met along the normal :math:`N = -n_C` from a
+  contactor point (Eq. 38, Fig. 7(b)), the nearest over several target surfaces
+  (:func:`find_targets`), and its distance to the nearest target node
+  (:func:`node_offsets`, for node-to-node and the two-pass method).
+
+Target surfaces are passed with their facets gathered on every process
+(:meth:`~dolfinx_contact_s2s.surface.ContactSurface.gather`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from mpi4py import MPI
+
+import numpy as np
+import numpy.typing as npt
+
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
+
+__all__ = [
+    "Hits",
+    "SubSegments",
+    "box_pairs",
+    "candidates",
+    "default_search_radius",
+    "find_targets",
+    "node_offsets",
+    "sub_segments",
+]
+
+
+@dataclass(frozen=True)
+class SubSegments:
+    """Sub-segments of the contactor facets of one process against one target (Fig. 15(b)).
+
+    Attributes:
+        contactor: Row of the contactor facet in :attr:`ContactSurface.data`.
+        target: Row of the target facet in the gathered target data.
+        lo: Start of the sub-segment, as a contactor facet parameter in [0, 1].
+        hi: End of the sub-segment.
+    """
+
+    contactor: npt.NDArray[np.int32]
+    target: npt.NDArray[np.int32]
+    lo: npt.NDArray[np.floating]
+    hi: npt.NDArray[np.floating]
+
+    def __len__(self) -> int:
+        """Number of sub-segments."""
+        return self.contactor.size
+
+
+@dataclass(frozen=True)
+class Hits:
+    """Contactor points that meet a target along their normal (Eq. 38).
+
+    Attributes:
+        points: Index of the point in the arrays passed to :func:`find_targets`.
+        target: Index of the target surface met.
+        rows: Row of the target facet met, in that target's gathered data.
+    """
+
+    points: npt.NDArray[np.int64]
+    target: npt.NDArray[np.int32]
+    rows: npt.NDArray[np.int32]
+
+
+def box_pairs(
+    a: npt.NDArray[np.floating], b: npt.NDArray[np.floating]
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """All pairs of overlapping boxes, by sweep and prune along the longest axis.
+
+    Args:
+        a: Boxes ``(na, 2, gdim)`` (lower and upper corners).
+        b: Boxes ``(nb, 2, gdim)``.
+
+    Returns:
+        Indices ``(ia, ib)`` of the overlapping pairs.
+    """
+    empty = np.empty(0, dtype=np.int32)
+    if a.shape[0] == 0 or b.shape[0] == 0:
+        return empty, empty
+    centres = np.concatenate([a.mean(axis=1), b.mean(axis=1)])
+    axis = int(np.argmax(np.ptp(centres, axis=0)))
+    order = np.argsort(b[:, 0, axis], kind="stable")
+    b_lo = b[order, 0, axis]
+    width = float(np.max(b[:, 1, axis] - b[:, 0, axis]))
+    start = np.searchsorted(b_lo, a[:, 0, axis] - width, side="left")
+    stop = np.searchsorted(b_lo, a[:, 1, axis], side="right")
+    counts = np.maximum(stop - start, 0)
+    ia = np.repeat(np.arange(a.shape[0], dtype=np.int32), counts)
+    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    ib = order[np.repeat(start, counts) + offsets].astype(np.int32)
+    overlap = np.all((a[ia, 0] <= b[ib, 1]) & (b[ib, 0] <= a[ia, 1]), axis=1)
+    return ia[overlap], ib[overlap]
+
+
+def default_search_radius(contactor: ContactSurface, targets: Sequence[ContactSurface]) -> float:
+    """The largest facet of the contactor and all targets, over all processes (collective)."""
+    local = max(float(np.max(s.sizes(s.data), initial=0.0)) for s in (contactor, *targets))
+    return contactor.comm.allreduce(local, op=MPI.MAX)
+
+
+def candidates(
+    boxes: npt.NDArray[np.floating], target: ContactSurface, T: SurfaceData, radius: float
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """Pairs (box, target facet) whose boxes overlap once ``boxes`` are padded by ``radius``."""
+    padded = boxes.copy()
+    padded[:, 0] -= radius
+    padded[:, 1] += radius
+    return box_pairs(padded, target.bounding_boxes(T))
+
+
+def sub_segments(
+    contactor: ContactSurface, target: ContactSurface, T: SurfaceData, radius: float
+) -> SubSegments:
+    """Cut the contactor facets at the projected target corner nodes (Fig. 15(b)).
+
+    Candidate pairs come from overlapping bounding boxes padded by the search
+    radius; pairs whose outward normals do not oppose are dropped, and so are pieces
+    whose middle is farther than ``radius`` from the target facet along the normal.
+
+    Args:
+        contactor: The contactor surface (its process-local facets are cut).
+        target: The target surface.
+        T: The target's gathered facets.
+        radius: The search radius.
+    """
+    C, cs, ts = contactor.data, contactor, target
+    ic, it = candidates(cs.bounding_boxes(C), ts, T, radius)
+
+    half = np.full(ic.size, 0.5)
+    n_c = cs.outward_normals(C, ic, half)
+    n_t = ts.outward_normals(T, it, half)
+    facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
+    ic, it, n_c = ic[facing], it[facing], n_c[facing]
+
+    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
+    _, xa, _ = ts.evaluate(T, it, np.zeros(it.size))
+    _, xb, _ = ts.evaluate(T, it, np.ones(it.size))
+    xi_a = cs.project(C, ic, xa)
+    xi_b = cs.project(C, ic, xb)
+    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
+    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
+    # Normal distance from the sub-segment's middle to the target facet.
+    _, xm, _ = cs.evaluate(C, ic, 0.5 * (lo + hi))
+    _, xt, _ = ts.evaluate(T, it, np.full(it.size, 0.5))
+    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
+    keep = (hi - lo > 1e-12) & near
+    return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
+
+
+def _hits_on(
+    target: ContactSurface,
+    T: SurfaceData,
+    x: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
+    radius: float,
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32], npt.NDArray[np.floating]]:
+    """Every (point, facet) of one target met along the normal, with the signed gap."""
+    ip, it = candidates(np.stack([x, x], axis=1), target, T, radius)
+    eta = target.intersect(T, it, x[ip], normals[ip])
+    tol = 1e-10
+    inside = (eta >= -tol) & (eta <= 1 + tol)
+    eta = np.clip(eta, 0.0, 1.0)
+    _, x_t, _ = target.evaluate(T, it, eta)
+    gap = np.einsum("pg,pg->p", x[ip] - x_t, normals[ip])
+    facing = np.einsum("pg,pg->p", target.outward_normals(T, it, eta), normals[ip]) > 0
+    ok = inside & facing & (np.abs(gap) <= radius)
+    return ip[ok], it[ok], gap[ok]
+
+
+def find_targets(
+    contactor: ContactSurface,
+    rows: npt.NDArray[np.int32],
+    xi: npt.NDArray[np.floating],
+    targets: Sequence[ContactSurface],
+    gathered: Sequence[SurfaceData],
+    radius: float,
+) -> Hits:
+    """The target facet hit along the normal from each contactor point (Eq. 38, Fig. 7(b)).
+
+    Args:
+        contactor: The contactor surface.
+        rows: Contactor facet row of each point.
+        xi: Contactor facet parameter of each point.
+        targets: The target surfaces.
+        gathered: Their gathered facets.
+        radius: Largest normal distance of a hit.
+
+    Returns:
+        The points that hit a facing target facet within the search radius, with the
+        target and facet each of them hits: the nearest over all targets (any one of
+        them where several are equally near).
+    """
+    C = contactor.data
+    _, x, _ = contactor.evaluate(C, rows, xi)
+    normals = -contactor.outward_normals(C, rows, xi)
+    found = [_hits_on(t, T, x, normals, radius) for t, T in zip(targets, gathered, strict=True)]
+    ip = np.concatenate([f[0] for f in found]).astype(np.int64)
+    it = np.concatenate([f[1] for f in found]).astype(np.int32)
+    gap = np.concatenate([f[2] for f in found])
+    which = np.repeat(np.arange(len(found), dtype=np.int32), [f[0].size for f in found])
+    order = np.lexsort((np.abs(gap), ip))
+    first = np.ones(order.size, dtype=bool)
+    first[1:] = ip[order][1:] != ip[order][:-1]
+    best = order[first]
+    return Hits(ip[best], which[best], it[best])
+
+
+def node_offsets(
+    contactor: ContactSurface,
+    rows: npt.NDArray[np.int32],
+    xi: npt.NDArray[np.floating],
+    target: ContactSurface,
+    T: SurfaceData,
+    t_rows: npt.NDArray[np.int32],
+) -> npt.NDArray[np.floating]:
+    """Distance from each contactor point's target point to the nearest target node."""
+    C = contactor.data
+    _, x, _ = contactor.evaluate(C, rows, xi)
+    eta = target.intersect(T, t_rows, x, -contactor.outward_normals(C, rows, xi))
+    # Facet parameters of the target's Lagrange nodes (P1: ends; P2: ends and middle).
+    nodes = np.linspace(0.0, 1.0, target.element.degree + 1)
+    off = np.min(np.abs(eta[:, None] - nodes[None, :]), axis=1, initial=np.inf)
+    return off * target.sizes(T)[t_rows]
