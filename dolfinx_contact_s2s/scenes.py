@@ -5,6 +5,8 @@
 Gmsh builds every body on one rank; DOLFINx's Gmsh reader distributes it. Each
 body is a mesh of its own, so bodies may carry different element types, degrees,
 materials and partitions; the contact coupling only ever touches their surfaces.
+Scenes of several blocks, in one mesh or several, are in
+:mod:`dolfinx_contact_s2s.scenes_multi`.
 """
 
 from __future__ import annotations
