@@ -2,9 +2,14 @@
 # SPDX-License-Identifier: MIT
 """Bad input raises a clear Python exception on every rank."""
 
+import types
+
 from mpi4py import MPI
 
+import basix.ufl
 import dolfinx
+import dolfinx.graph
+import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
@@ -69,3 +74,56 @@ def test_surfaces_out_of_reach(scene):
     assemble_coupling(contact_pair(upper, lower))  # in reach: fine
     with pytest.raises(ValueError, match="never face each other"):
         assemble_coupling(contact_pair(far_upper, lower))
+
+
+def _halves_mesh(comm, n=4):
+    """Unit square of n x n quadrilaterals, cells below y = 1/2 on rank 0, the rest on rank 1.
+
+    No ghost cells: on two ranks the interior line y = 1/2 is the partition boundary.
+    """
+    if comm.rank == 0:
+        xs = np.linspace(0.0, 1.0, n + 1)
+        X, Y = np.meshgrid(xs, xs)
+        x = np.stack([X.ravel(), Y.ravel()], axis=1)
+        v = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)  # v[j, i] at (x_i, y_j)
+        cells = np.stack(
+            [v[:-1, :-1].ravel(), v[:-1, 1:].ravel(), v[1:, :-1].ravel(), v[1:, 1:].ravel()],
+            axis=1,
+        ).astype(np.int64)
+    else:
+        x, cells = np.empty((0, 2)), np.empty((0, 4), dtype=np.int64)
+
+    def partitioner(comm, nparts, *args):
+        # The cells arrive on rank 0 in the order above: row by row from y = 0.
+        local = np.asarray(args[-1][0]).size // 4
+        dest = np.where(np.arange(local) < n * n // 2, 0, 1) % nparts
+        adj = dolfinx.graph.adjacencylist(dest.astype(np.int32))
+        return getattr(adj, "_cpp_object", adj)  # a Python wrapper from DOLFINx 0.10
+
+    e = basix.ufl.element("Lagrange", "quadrilateral", 1, shape=(2,))
+    return dolfinx.mesh.create_mesh(comm, cells=cells, x=x, e=e, partitioner=partitioner)
+
+
+def test_interior_facets_rejected_on_every_partition():
+    """A tagged interior line is rejected, also where it is the partition boundary.
+
+    On two ranks without ghost cells every tagged facet has a single local cell, so
+    counting local cells (the former check) would have taken the line for boundary.
+    """
+    comm = MPI.COMM_WORLD
+    mesh = _halves_mesh(comm)
+    tdim = mesh.topology.dim
+    mesh.topology.create_connectivity(tdim - 1, tdim)
+    facets = dolfinx.mesh.locate_entities(mesh, tdim - 1, lambda x: np.isclose(x[1], 0.5))
+    tags = dolfinx.mesh.meshtags(mesh, tdim - 1, facets, np.full(facets.size, 5, dtype=np.int32))
+    f_to_c = mesh.topology.connectivity(tdim - 1, tdim)
+    links = f_to_c.offsets[facets + 1] - f_to_c.offsets[facets]
+    if comm.size == 2:
+        assert comm.allreduce(facets.size) > 0 and np.all(links == 1)
+    with pytest.raises(ValueError, match="must be on the boundary"):
+        contact_surface(_space(scene_like(mesh)), tags, 5)
+
+
+def scene_like(mesh):
+    """A stand-in body holding only a mesh (for :func:`_space`)."""
+    return types.SimpleNamespace(mesh=mesh)
