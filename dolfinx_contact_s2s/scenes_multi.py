@@ -23,7 +23,9 @@ for bottom 1, right 2 and left 4, and has top 10.
 Every scene solves the patch problem exactly: :math:`\sigma_{yy} = -p`,
 :math:`\sigma_{xx} = \sigma_{xy} = 0` in every block and a contact pressure
 :math:`\lambda = p` wherever the blocks touch, whatever the materials (frictionless
-contact lets blocks of different Poisson ratios slide along each other). The supports
+contact lets blocks of different Poisson ratios slide along each other), as long as
+blocks standing side by side under one block keep their tops level: they need the same
+vertical compliance, :math:`(1 - \nu^2)/E` in plane strain. The supports
 that give this solution are part of the scene: :attr:`BlocksScene.fixed_x` (sides with
 :math:`u_x = 0`, one vertical side per block), :attr:`BlocksScene.fixed_y` (the bottom
 of the lowest blocks) and :attr:`BlocksScene.loaded` (the top of the highest blocks).
@@ -37,6 +39,7 @@ from dataclasses import dataclass
 from mpi4py import MPI
 
 import dolfinx
+import numpy as np
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 from dolfinx_contact_s2s.scenes import _gmsh_session
@@ -219,6 +222,29 @@ def _model_blocks(gmsh: typing.Any, blocks: list[Block], cell: str, geometry_deg
             gmsh.model.addPhysicalGroup(1, [line], block.tags[side], name=f"{block.name}_{side}")
     gmsh.model.mesh.generate(2)
     gmsh.model.mesh.setOrder(geometry_degree)
+    for block, (_, lines) in zip(blocks, entities, strict=True):
+        _snap(gmsh, block, lines, geometry_degree)
+
+
+def _snap(gmsh: typing.Any, block: Block, lines: dict[str, int], geometry_degree: int) -> None:
+    """Put the nodes inside the sides of ``block`` at their exact, uniform positions.
+
+    Gmsh places the nodes of a transfinite curve up to about :math:`10^{-12}` off
+    (:math:`1/3 + 6/9` lands at :math:`1 - 10^{-12}`), which would leave slivers
+    where a node is meant to meet the end of another body's side.
+    """
+    (x0, y0), (w, h), (nx, ny) = block.origin, block.size, block.elements
+    for side, line in lines.items():
+        tags, coords, params = gmsh.model.mesh.getNodes(1, line, returnParametricCoord=True)
+        coords = np.asarray(coords).reshape(-1, 3)
+        axis, start, length, n = (0, x0, w, nx) if side in ("bottom", "top") else (1, y0, h, ny)
+        n *= geometry_degree
+        if len(tags) != n - 1:
+            raise RuntimeError(f"side {side!r} of block {block.name!r} has no uniform nodes")
+        order = np.argsort(coords[:, axis])
+        coords[order, axis] = start + length * np.arange(1, n) / n
+        for tag, x, t in zip(tags, coords, params, strict=True):
+            gmsh.model.mesh.setNode(tag, x, [t])
 
 
 def _mesh_blocks(
@@ -379,7 +405,9 @@ def three_blocks(
     standing side by side. With the defaults the joint :math:`x = 0.45` of the lower
     blocks is no node of the upper block's bottom (nodes at :math:`k/7`), so a
     contactor facet faces two targets at once. The lower blocks are held horizontally
-    at the joint (each expands away from it), the upper block at its left side.
+    at the joint (each expands away from it), the upper block at its left side. The
+    lower blocks need the same vertical compliance (:math:`(1 - \nu^2)/E` in plane
+    strain) for the exact solution to be uniform.
 
     Args:
         comm: Communicator the meshes are distributed over.
