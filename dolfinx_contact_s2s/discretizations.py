@@ -361,26 +361,16 @@ class NodeToNode(NodeToSegment):
     ) -> npt.NDArray[np.int64]:
         """None; raise ValueError on every rank unless the nodes of both sides coincide."""
         coincident, _ = self.coincident(pair, gathered)
-        # Every contactor node meets a target node, and there are as many of each.
-        num_nodes = 0
-        seen: list[dolfinx.fem.FunctionSpace] = []
-        nodes: list[npt.NDArray[np.int64]] = []
+        # Every contactor node meets a target node, and there are as many of each
+        # (targets sharing a space share their nodes: count each space's nodes once).
+        nodes: dict[int, list[npt.NDArray[np.int64]]] = {}
         for t, T in zip(pair.targets, gathered, strict=True):
             closure = t.element.basix_element.entity_closure_dofs[1]
-            bs = t.V.dofmap.index_map_bs
-            facet_nodes = np.array([closure[lf] for lf in T.local_facet], dtype=np.int64)
-            mine = (
-                np.take_along_axis(T.dofs[:, ::bs], facet_nodes, axis=1).reshape(-1)
-                if facet_nodes.size
-                else np.empty(0, dtype=np.int64)
-            )
-            index = next((i for i, V in enumerate(seen) if V is t.V), None)
-            if index is None:
-                seen.append(t.V)
-                nodes.append(mine)
-            else:
-                nodes[index] = np.concatenate([nodes[index], mine])
-        num_nodes = sum(np.unique(n).size for n in nodes)
+            local = np.array([closure[lf] for lf in T.local_facet], dtype=np.int64)
+            local = local.reshape(len(T), -1)
+            block_dofs = T.dofs[:, :: t.V.dofmap.index_map_bs]
+            nodes.setdefault(id(t.V), []).append(np.take_along_axis(block_dofs, local, axis=1))
+        num_nodes = sum(np.unique(np.concatenate(n, axis=None)).size for n in nodes.values())
         same_count = num_nodes == pair.Q.dofmap.index_map.size_global
         if not same_count or pair.contactor.comm.allreduce(int(np.count_nonzero(~coincident))):
             raise ValueError(
