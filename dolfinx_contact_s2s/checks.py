@@ -24,16 +24,19 @@ number of degrees of freedom:
   :math:`\mathbf R\alpha` of rigid modes vanishes at every Dirichlet dof, is not
   resisted by any active contact row, and costs no energy in the user's form (which
   may contain springs). With every row of :math:`\mathbf R_D` and of
-  :math:`\mathbf B\mathbf R` scaled to unit size (see the function) and the energy
-  measured relative to the largest free diagonal entry of :math:`\mathbf K`, the
-  motions are the eigenvectors of the small Gram matrix
-  :math:`\mathbf G = \mathbf G_D + \mathbf G_B + \mathbf G_K` (order :math:`3c` in 2D,
-  :math:`6c` in 3D for :math:`c` bodies) whose eigenvalues lie below
+  :math:`\mathbf B\mathbf R` scaled to unit size and the energy measured relative to
+  :math:`k_{max} h` (see the function), the motions are the eigenvectors of the small
+  Gram matrix :math:`\mathbf G = \mathbf G_D + \mathbf G_B + \mathbf G_K` (order
+  :math:`3c` in 2D, :math:`6c` in 3D for :math:`c` bodies) whose eigenvalues lie below
   :data:`UNSUPPORTED_TOL` :math:`\cdot\max(1, \lambda_{max})`. :math:`10^{-10}` is far
-  above the round-off of these normalized sums (:math:`\epsilon` times their trace)
-  and far below the support a single Dirichlet dof gives (of order one): a motion
-  resisted :math:`10^{10}` times less than the stiffest dof makes Eq. (18) as
-  ill-conditioned as a floating body, and is reported as one.
+  above round-off (that of the normalized sums, :math:`\epsilon` times their trace;
+  that of the elastic energy of a rigid mode, measured :math:`10^{-14}` for
+  :math:`6\cdot 10^5` nodes in 2D and :math:`5\cdot 10^{-15}` for :math:`6\cdot 10^4`
+  in 3D, growing as :math:`h^{-1}`) and far below the support a single Dirichlet dof
+  or contact row gives (of order one): a motion resisted :math:`10^{10}` times less
+  than that makes Eq. (18) as ill-conditioned as a floating body, and is reported as
+  one. A spring of stiffness :math:`k` per unit area of the boundary of a body of unit
+  size counts as a support while :math:`k h / E \gtrsim 10^{-10}`.
 * :func:`redundant_constraints` (Eqs. 34-35). With the active rows of
   :math:`\tilde{\mathbf B} = \mathbf B\mathbf D` (Dirichlet columns removed) scaled to
   unit length, the number of dependent rows is the number of eigenvalues of
@@ -183,6 +186,7 @@ class _Bodies:
     x: npt.NDArray[np.floating]  # coordinates of the owned dof blocks, (n, bs)
     centroid: npt.NDArray[np.floating]  # (count, bs)
     size: npt.NDArray[np.floating]  # RMS distance of the nodes from the centroid, (count,)
+    nodes: npt.NDArray[np.floating]  # number of nodes, (count,)
     lower: npt.NDArray[np.floating]  # bounding boxes, (count, bs)
     upper: npt.NDArray[np.floating]
 
@@ -255,7 +259,7 @@ def _bodies(V: dolfinx.fem.FunctionSpace, labels: npt.NDArray[np.int32] | None) 
     np.maximum.at(upper, owned, x)
     comm.Allreduce(MPI.IN_PLACE, lower, op=MPI.MIN)
     comm.Allreduce(MPI.IN_PLACE, upper, op=MPI.MAX)
-    return _Bodies(comm, bs, count, owned, x, centroid, size, lower, upper)
+    return _Bodies(comm, bs, count, owned, x, centroid, size, counts, lower, upper)
 
 
 def _vector(comm: MPI.Comm, values: npt.NDArray[np.floating], bs: int) -> PETSc.Vec:
@@ -511,10 +515,13 @@ def unsupported_motions(
       a row whose :math:`\mathbf b_i` is round-off stays round-off instead of being
       blown up to unit length;
     * :math:`\mathbf G_K = \mathbf S\mathbf R_f^T\mathbf K\mathbf R_f\mathbf S / k_{max}`
-      with :math:`\mathbf R_f` the modes with Dirichlet rows zeroed,
-      :math:`\mathbf S` the inverse column norms of :math:`\mathbf R` and
-      :math:`k_{max}` the largest diagonal entry of :math:`\mathbf K` at a free dof: the
-      Rayleigh quotient of the motion relative to the stiffest dof.
+      with :math:`\mathbf R_f` the modes with Dirichlet rows zeroed, :math:`k_{max}`
+      the largest diagonal entry of :math:`\mathbf K` at a free dof and
+      :math:`S_{jj} = n^{1/(2d)}/|\mathbf R_{:j}|` for a mode of a body with :math:`n`
+      nodes in dimension :math:`d`: the Rayleigh quotient of the motion relative to
+      :math:`k_{max} h`, :math:`h \sim n^{-1/d}` (between the stiffest dof,
+      :math:`k_{max}`, and the softest elastic mode, :math:`\sim k_{max} h^2`, of a body
+      of unit size).
 
     :math:`\mathbf G` is block diagonal over groups of bodies coupled by constraints;
     each group's eigenvalues below ``tol * max(1, largest eigenvalue of the group)``
@@ -606,14 +613,15 @@ def unsupported_motions(
 
     G = comm.allreduce(G)
     colnorm2 = comm.allreduce(colnorm2)
-    S = 1.0 / np.sqrt(np.where(colnorm2 > 0.0, colnorm2, 1.0))
+    nodes = np.concatenate([np.repeat(b.nodes, b.modes) ** (0.5 / b.bs) for b in bodies])
+    S = nodes / np.sqrt(np.where(colnorm2 > 0.0, colnorm2, 1.0))
     for s in range(len(spaces)):
         cols = slice(offsets[s], offsets[s + 1])
         if kmax[s] > 0.0:
             G[1][cols] /= kmax[s]
     G = G[0] + S[:, None] * G[1] * S[None, :]
     G = comm.bcast(0.5 * (G + G.T), root=0)  # identical input: identical results
-    return _null_motions(G, bodies, offsets, tol)
+    return _null_motions(G, bodies, tol)
 
 
 def _echelon(Z: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
@@ -638,7 +646,7 @@ def _echelon(Z: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
 
 
 def _null_motions(
-    G: npt.NDArray[np.floating], bodies: list[_Bodies], offsets: npt.NDArray, tol: float
+    G: npt.NDArray[np.floating], bodies: list[_Bodies], tol: float
 ) -> list[UnsupportedMotion]:
     # Columns -> (space, component); group the components coupled in G.
     owners = [(s, c) for s, b in enumerate(bodies) for c in range(b.count) for _ in range(b.modes)]

@@ -327,6 +327,22 @@ def test_spring_supports_everything():
     assert check([V], [stiffness(V, spring=1.0)], [mask(V)]) == []
 
 
+def test_free_box_3d():
+    mesh = dolfinx.mesh.create_box(comm, [[0.0, 0.0, 0.0], [2.0, 1.0, 1.0]], [4, 2, 2])
+    V = vector_space(mesh)
+    motions = check([V], [stiffness(V)], [mask(V)])
+    assert [m.description for m in motions] == [
+        "translation along (1, 0, 0)",
+        "translation along (0, 1, 0)",
+        "translation along (0, 0, 1)",
+        "rotation about the axis (1, 0, 0) through (1, 0.5, 0.5)",
+        "rotation about the axis (0, 1, 0) through (1, 0.5, 0.5)",
+        "rotation about the axis (0, 0, 1) through (1, 0.5, 0.5)",
+    ]
+    bcs = [clamp(V)]
+    assert check([V], [stiffness(V, bcs)], [mask(V, bcs)]) == []
+
+
 def two_bodies():
     """Body 0: [0, 1] x [0, 0.5]; body 1: [1.5, 2.5] x [0, 1]."""
     return vector_space(rectangles_mesh(RECTANGLES[:2], 0.25))
