@@ -7,7 +7,7 @@ quadratic continuous multiplier, large enough to be far beyond the dense test (a
 240,000 displacement unknowns by default). Both timings come from the same run, so
 the ratio is meaningful on a noisy machine even when the seconds are not:
 
-- one solve: factorizing and solving Eq. (18) of the assembled ``ContactProblem``;
+- one solve: factorizing and solving Eq. (18) of the assembled ``LinearContactProblem``;
 - the inf-sup test: assembling S and P, factorizing the shifted saddle-point matrix (its
   inertia counts the pressure modes) and the SLEPc eigensolve (``InfSupTest``).
 
@@ -23,8 +23,8 @@ from pathlib import Path
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from dolfinx_contact_s2s.infsup import FAMILIES, InfSupCase, inf_sup_problem
-from dolfinx_contact_s2s.stability import InfSupTest
+from dolfinx_contact_s2s.infsup import InfSupTest
+from dolfinx_contact_s2s.studies.infsup import FAMILIES, InfSupCase, inf_sup_problem
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--level", type=int, default=20, help="level n of the 10n/7n family")
@@ -53,12 +53,13 @@ def timed(f):
 case = InfSupCase(degree=args.degree, family="10n/7n")
 log(f"building the scene, level {args.level}: elements {FAMILIES[case.family](args.level)}")
 (problem, h), t_build = timed(lambda: inf_sup_problem(comm, case, args.level))
+problem.assemble()
 unknowns = problem.A.getSize()[0]
 log(f"  {unknowns} unknowns in Eq. (18) ({t_build:.1f} s)")
 
 
 def one_solve(problem):
-    """Factorize and solve Eq. (18) from scratch, as ``ContactProblem.solve`` does."""
+    """Factorize and solve Eq. (18) from scratch, as ``LinearContactProblem.solve`` does."""
     ksp = PETSc.KSP().create(comm)
     ksp.setOperators(problem.A)
     ksp.setType("preonly")

@@ -52,7 +52,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.infsup import (
+from dolfinx_contact_s2s.studies.infsup import (
     FAMILIES,
     LEVELS,
     STABLE_SLOPE,

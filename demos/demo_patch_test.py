@@ -55,14 +55,12 @@ from mpi4py import MPI
 
 import numpy as np
 
-from dolfinx_contact_s2s.patch_test import (
-    PASS_TOLERANCE,
+from dolfinx_contact_s2s.studies.patch_matrix import PASS_TOLERANCE, case_record, study_cases
+from dolfinx_contact_s2s.studies.patch_test import (
     PatchTestCase,
-    case_record,
     force_transfer,
     solve_patch_test,
     stress_component_errors,
-    study_cases,
 )
 
 parser = argparse.ArgumentParser(description="The contact patch test study")

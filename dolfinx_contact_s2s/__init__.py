@@ -9,6 +9,10 @@ The PETSc layer (assembly of the coupling block and the saddle-point solve) live
 :mod:`dolfinx_contact_s2s.petsc`, which must be imported explicitly.
 """
 
+import importlib.metadata as _metadata
+import pathlib as _pathlib
+import re as _re
+
 from dolfinx_contact_s2s import scenes
 from dolfinx_contact_s2s.coupling import (
     METHODS,
@@ -21,7 +25,19 @@ from dolfinx_contact_s2s.coupling import (
 from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
 
-__version__ = "0.1.0"
+
+def _read_version() -> str:
+    """The installed package's version; in a source checkout, pyproject.toml's."""
+    try:
+        return _metadata.version("dolfinx-contact-s2s")
+    except _metadata.PackageNotFoundError:
+        pyproject = _pathlib.Path(__file__).parents[1] / "pyproject.toml"
+        text = pyproject.read_text() if pyproject.exists() else ""
+        found = _re.search(r'^version = "(.+)"', text, flags=_re.M)
+        return found.group(1) if found else "unknown"
+
+
+__version__ = _read_version()
 
 __all__ = [
     "METHODS",

@@ -1,283 +1,404 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""The solvability and inf-sup studies of section 3.1 on the model of Fig. 2.
+r"""The inf-sup test of Eqs. (26)-(32) for large meshes: one factorization and SLEPc.
 
-Each discretization is evaluated on families of meshes of the inf-sup model (two
-blocks, meshed independently, overlapping by :math:`-g_0`, the lower block clamped
-at its bottom and the upper one at its top). A family fixes how the element counts on
-the two surfaces grow with the level :math:`n`; :math:`h` is the element size on the
-lower surface (as in Fig. 8). The verdicts of Tables 1-2 follow from the numbers:
-
-- *solvable* if :math:`\mathbf B` has full rank on every mesh of every family (Eq. 35);
-- *stable* if it is solvable and :math:`\beta^*_h` stays bounded away from zero as
-  :math:`h \to 0` on every family and with either surface as contactor: the slope
-  :math:`s` of :math:`\log \beta^*_h` against :math:`\log h`, fitted on the finer
-  levels, stays below :data:`STABLE_SLOPE` (a :math:`\beta^*_h \sim h^s` with
-  :math:`s > 0` decays to zero). "If any mesh configuration fails the inf-sup test,
-  then the algorithm fails" (section 3).
+The dense reference, exactly as the paper states the test, is
+:func:`dolfinx_contact_s2s.stability.inf_sup_dense`; both take any
+:class:`~dolfinx_contact_s2s.problem.LinearContactProblem`. This module needs
+petsc4py (and slepc4py for :meth:`InfSupTest.solve`).
 """
 
 from __future__ import annotations
 
-import typing
-from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from petsc4py import PETSc
 
-from mpi4py import MPI
-
-import dolfinx
 import numpy as np
-import ufl
+import numpy.typing as npt
+import scipy.linalg
 
-from dolfinx_contact_s2s.coupling import contact_pairs
-from dolfinx_contact_s2s.patch_test import MATERIALS
-from dolfinx_contact_s2s.scenes import BOTTOM, TOP, inf_sup_model
-from dolfinx_contact_s2s.surface import contact_surface
+from dolfinx_contact_s2s.options import PETScOptions
+from dolfinx_contact_s2s.petsc import gather_dense, multiplier_mass
+from dolfinx_contact_s2s.problem import LinearContactProblem
+from dolfinx_contact_s2s.stability import (
+    InfSup,
+    assembled,
+    dirichlet_free,
+    dual_norm_matrix,
+    norm_matrices,
+    stack_pairs,
+)
 
-if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.petsc import ContactProblem
-
-__all__ = [
-    "FAMILIES",
-    "FIT_FROM",
-    "LEVELS",
-    "STABLE_SLOPE",
-    "TABLES",
-    "InfSupCase",
-    "inf_sup_problem",
-    "level_record",
-    "run_case",
-    "slope",
-    "study_cases",
-    "table",
-    "verdicts",
-]
-
-#: Element counts (lower, upper) on the contact surfaces at level n.
-FAMILIES: dict[str, Callable[[int], tuple[int, int]]] = {
-    # A fixed ratio: every level repeats the same pattern of nodes (Figs. 8, 10, 11(a)).
-    "10n/7n": lambda n: (10 * n, 7 * n),
-    # Fig. 11(b): nodes of the two surfaces come ever closer; at n = 2 the lower surface
-    # has 10 elements and the upper one five, and the meshes match.
-    "5n/(2n+1)": lambda n: (5 * n, 2 * n + 1),
-}
-
-#: Mesh levels of every study.
-LEVELS = (1, 2, 3, 4, 6, 8)
-
-#: The slope of log beta against log h is fitted on the levels n >= FIT_FROM.
-FIT_FROM = 3
-
-#: Largest fitted slope of a stable discretization.
-STABLE_SLOPE = 0.3
-
-#: Tables 1 and 2 of the paper: (displacement degree, multiplier) -> (stable, solvable).
-TABLES: dict[tuple[int, tuple[str, int]], tuple[bool, bool]] = {
-    (1, ("DG", 0)): (False, True),
-    (1, ("Lagrange", 1)): (True, True),
-    (1, ("DG", 1)): (False, False),
-    (2, ("DG", 0)): (True, True),
-    (2, ("Lagrange", 1)): (True, True),
-    (2, ("DG", 1)): (False, True),
-    (2, ("Lagrange", 2)): (True, True),
-    (2, ("DG", 2)): (False, False),
-}
+__all__ = ["InfSupTest", "inf_sup"]
 
 
-@dataclass(frozen=True)
-class InfSupCase:
-    """A discretization on one family of the inf-sup model.
+class _InverseSchur:
+    r"""Shell operator :math:`\mathbf P (\Sigma - \tau \mathbf P)^{-1} \mathbf P`.
 
-    Attributes:
-        method: As for :func:`~dolfinx_contact_s2s.contact_pairs`, including
-            ``"two-pass node-to-segment"``.
-        multiplier: Multiplier space, e.g. ``("DG", 0)``; ``None`` for the default.
-        degree: Displacement degree of both bodies.
-        family: Key of :data:`FAMILIES`.
-        contactor: ``"upper"`` or ``"lower"``.
-        cell: ``"triangle"`` or ``"quadrilateral"``.
-        weight: ``"unit"`` or ``"tributary"``, for node-to-segment.
+    Each product is one saddle-point back-substitution.
     """
 
-    method: str = "segment-to-segment"
-    multiplier: tuple[str, int] | None = None
-    degree: int = 1
-    family: str = "10n/7n"
-    contactor: str = "upper"
-    cell: str = "quadrilateral"
-    weight: str = "unit"
+    def __init__(self, test: InfSupTest):
+        self.test = test
+        self.solves = 0
 
-    def record(self) -> dict:
-        """The case as a JSON-ready dict."""
-        rec = asdict(self)
-        rec["multiplier"] = list(self.multiplier) if self.multiplier else None
-        return rec
-
-
-def inf_sup_problem(comm: MPI.Comm, case: InfSupCase, n: int) -> tuple[ContactProblem, float]:
-    """The contact problem of ``case`` at level ``n`` and its element size :math:`h`."""
-    from dolfinx_contact_s2s.petsc import ContactProblem
-
-    if case.family not in FAMILIES:
-        raise ValueError(f"unknown family {case.family!r}; choose from {list(FAMILIES)}")
-    if case.contactor not in ("upper", "lower"):
-        raise ValueError("contactor must be 'upper' or 'lower'")
-    elements = FAMILIES[case.family](n)
-    scene = inf_sup_model(comm, elements, cell=case.cell)
-    spaces, a, L, bcs = {}, [], [], []
-    for name, clamped in (("lower", BOTTOM), ("upper", TOP)):
-        body = scene.bodies[name]
-        V = dolfinx.fem.functionspace(body.mesh, ("Lagrange", case.degree, (2,)))
-        ai, _, v = MATERIALS[name].forms(V)
-        zero = dolfinx.fem.Constant(body.mesh, np.zeros(2, dtype=dolfinx.default_scalar_type))
-        dofs = dolfinx.fem.locate_dofs_topological(V, 1, body.facet_tags.find(clamped))
-        bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V))
-        spaces[name] = V
-        a.append(ai)
-        L.append(ufl.inner(zero, v) * ufl.dx)
-    surfaces = {
-        name: contact_surface(V, scene.bodies[name].facet_tags, scene.bodies[name].contact)
-        for name, V in spaces.items()
-    }
-    target = "lower" if case.contactor == "upper" else "upper"
-    # Pair facets across the overlap even where it exceeds the element size.
-    radius = abs(scene.gap) + scene.width / min(elements)
-    options: dict[str, typing.Any] = {"method": case.method, "search_radius": radius}
-    if case.multiplier is not None:
-        options["multiplier"] = case.multiplier
-    if case.weight != "unit":
-        options["weight"] = case.weight
-    pairs = contact_pairs(surfaces[case.contactor], surfaces[target], **options)
-    problem = ContactProblem(a, L, pairs, bcs, petsc_options_prefix="infsup_model_")
-    return problem, scene.width / elements[0]
+    def mult(self, mat: PETSc.Mat, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        t = self.test
+        t.P.mult(x, t._z)
+        t._rhs.set(0.0)
+        t._scatter(t._z, t._rhs, forward=True)
+        t.ksp.solve(t._rhs, t._sol)
+        self.solves += 1
+        t._scatter(t._z, t._sol, forward=False)
+        # [[S, B^T], [B, tau P]] [u; p] = [0; y]  gives  p = -(Sigma - tau P)^{-1} y.
+        t.P.mult(t._z, y)
+        y.scale(-1.0)
 
 
-def level_record(
-    comm: MPI.Comm, case: InfSupCase, n: int, *, dense_limit: int = 2600, full: bool = True
-) -> dict:
-    r"""Solvability and inf-sup values of ``case`` at level ``n``.
+class InfSupTest:
+    r"""The inf-sup test of Eqs. (26)-(32) for large meshes, with one factorization.
 
-    ``beta`` and ``pressure_modes`` come from the scalable test (one MUMPS
-    factorization, SLEPc); ``rank_deficiency`` from a dense SVD of :math:`\mathbf B`
-    (Eq. 35). Where the free displacements number at most ``dense_limit``, the dense
-    reference of Eqs. (30)-(32) runs too (``beta_dense``, ``pressure_modes_dense``).
-    ``beta_full`` is :math:`\beta_h` of Eq. (22) (with ``full``).
+    The non-zero eigenvalues of Eq. (30) are those of the pencil on the multipliers
+
+    .. math:: \Sigma \mathbf M = \lambda\, h \mathbf P \mathbf M, \qquad
+        \Sigma = \mathbf B \mathbf S^{-1} \mathbf B^T,
+
+    and :math:`(\Sigma - \tau h \mathbf P)^{-1}` is (minus) the multiplier block of the
+    inverse of the shifted saddle-point matrix
+
+    .. math:: \mathbf A_\tau = \begin{bmatrix} \mathbf S & \mathbf B^T \\
+        \mathbf B & \tau h \mathbf P \end{bmatrix},
+
+    factorized once (symmetric indefinite :math:`LDL^T`, MUMPS). Since :math:`\mathbf
+    S` is positive definite, Sylvester's law of inertia gives the number of negative
+    pivots of :math:`\mathbf A_\tau` as the number of eigenvalues :math:`\lambda >
+    \tau`, so that
+
+    - the pressure modes, the eigenvalues :math:`\lambda \le \tau` (Eq. 32; zero unless
+      :math:`\mathbf B` is rank deficient, Eq. 35), are counted exactly by the inertia;
+    - if there are none, SLEPc finds the largest eigenvalue :math:`\mu` of
+      :math:`h \mathbf P (\Sigma - \tau h \mathbf P)^{-1} h \mathbf P \mathbf M = \mu\,
+      h \mathbf P \mathbf M` (generalized Hermitian, each product one
+      back-substitution), and :math:`\beta^{*2}_h = \lambda_k = \tau + 1/\mu`.
+
+    The multipliers are scaled by :math:`(h P_{ii})^{-1/2}` first, which leaves the
+    eigenvalues alone and gives :math:`h \mathbf P` a unit diagonal, so that :math:`\tau`
+    is a plain threshold on :math:`\beta^{*2}`. The methods below work on the scaled
+    multipliers, where :attr:`P` stands for :math:`h \mathbf P`.
     """
-    from dolfinx_contact_s2s.stability import InfSupTest, inf_sup_dense, solvability
 
-    problem, h = inf_sup_problem(comm, case, n)
-    test = InfSupTest(problem, h)
+    def __init__(
+        self,
+        problem: LinearContactProblem,
+        h: float,
+        *,
+        norm: str = "H1",
+        petsc_options_prefix: str = "infsup_",
+        petsc_options: dict | None = None,
+        shift: float = 1e-10,
+    ):
+        r"""Assemble and factorize the saddle-point matrix.
+
+        Args:
+            problem: The contact problem (its spaces, Dirichlet conditions and pairs).
+            h: Element size of Eqs. (26) and (31).
+            norm: ``"H1"`` (Eq. 28) or ``"energy"`` (:math:`\mathbf S = \mathbf K`).
+            petsc_options_prefix: Prefix of the options of the factorization
+                (``{prefix}ksp_``, ``{prefix}pc_``, ``{prefix}mat_mumps_``) and of
+                the eigensolver (``{prefix}eps_``, ``{prefix}st_``).
+            petsc_options: Options set under the prefix (the package's one options
+                policy, :class:`~dolfinx_contact_s2s.options.PETScOptions`); the
+                defaults, MUMPS :math:`LDL^T`, yield to them and to the database.
+            shift: :math:`\tau`: eigenvalues :math:`\beta^{*2} \le \tau` count as
+                pressure modes.
+        """
+        if not h > 0:
+            raise ValueError(f"the element size h must be positive, not {h}")
+        if norm not in ("H1", "energy"):
+            raise ValueError(f"norm must be 'H1' or 'energy', not {norm!r}")
+        self.h = float(h)
+        self.shift = float(shift)
+        self.options = PETScOptions(
+            petsc_options_prefix,
+            petsc_options,
+            {"ksp_type": "preonly", "pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps"},
+        )
+        self.prefix = self.options.prefix
+        comm = assembled(problem).comm
+        self.comm = comm
+        self._S = norm_matrices(problem, norm)
+        nb, npairs = len(problem.spaces), len(problem.pairs)
+        blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
+        for i, S in enumerate(self._S):
+            blocks[i][i] = S
+        self._owned = []
+        scalings = []
+        P_blocks: list[list[PETSc.Mat | None]] = [[None] * npairs for _ in range(npairs)]
+        for j, (pair, op, constraint) in enumerate(
+            zip(problem.pairs, problem.operators, problem.constraints, strict=True)
+        ):
+            start, end = pair.Q.dofmap.index_map.local_range
+            active = np.setdiff1d(np.arange(start, end, dtype=np.int64), op.inactive)
+            rows = PETSc.IS().createGeneral(active.astype(PETSc.IntType), comm=comm)
+            M = multiplier_mass(pair)
+            P = M.createSubMatrix(rows, rows)
+            d = P.getDiagonal()
+            d.scale(self.h)
+            d.sqrtabs()
+            d.reciprocal()
+            P.diagonalScale(d, d)
+            P.scale(self.h)
+            P_blocks[j][j] = P
+            scalings.append(d)
+            shifted = P.copy()
+            shifted.scale(shift)
+            blocks[nb + j][nb + j] = shifted
+            self._owned.append(shifted)
+            for i, Bi in constraint:
+                c0, c1 = Bi.getOwnershipRangeColumn()
+                cols = PETSc.IS().createStride(c1 - c0, first=c0, step=1, comm=comm)
+                B = Bi.createSubMatrix(rows, cols)
+                B.diagonalScale(d, None)
+                Bt = PETSc.Mat()
+                B.transpose(Bt)
+                blocks[nb + j][i] = B
+                blocks[i][nb + j] = Bt
+                self._owned.extend([B, Bt, cols])
+            self._owned.extend([M, rows, d])
+        self._nest = PETSc.Mat().createNest(blocks, comm=comm)
+        self._P_nest = PETSc.Mat().createNest(P_blocks, comm=comm)
+        self.A = self._nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
+        self.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        #: :math:`h \mathbf D \mathbf P \mathbf D` on the scaled multipliers.
+        self.P = self._P_nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
+        self._is_saddle = list(self._nest.getNestISs()[0])[nb:]
+        self._is_mult = list(self._P_nest.getNestISs()[0])
+        self.constraints = self.P.getSize()[0]
+        self.displacements = sum(S.getSize()[0] for S in self._S) - self._dirichlet_count(problem)
+        self._rhs, self._sol = self.A.createVecRight(), self.A.createVecRight()
+        self._z = self.P.createVecRight()
+        #: The scaling :math:`(h P_{ii})^{-1/2}` of the multipliers.
+        self._scaling = self.P.createVecRight()
+        for d, is_m in zip(scalings, self._is_mult, strict=True):
+            sub = self._scaling.getSubVector(is_m)
+            sub.array[:] = d.array_r
+            self._scaling.restoreSubVector(is_m, sub)
+
+        self.ksp = PETSc.KSP().create(comm)
+        self.ksp.setOperators(self.A)
+        self.options.apply(self.ksp)
+        pc = self.ksp.getPC()
+        if pc.getType() != "cholesky" or pc.getFactorSolverType() != "mumps":
+            raise ValueError("the inf-sup test counts pressure modes with MUMPS LDL^T (cholesky)")
+        pc.setFactorSetUpSolverType()
+        F = pc.getFactorMatrix()
+        F.setMumpsIcntl(13, 1)  # inertia of the root front too (no ScaLAPACK there)
+        self.ksp.setUp()
+        if F.getMumpsInfog(1) < 0:
+            raise RuntimeError(f"MUMPS failed to factorize (INFOG(1) = {F.getMumpsInfog(1)})")
+        negative = int(F.getMumpsInfog(12))
+        #: :math:`k_{pm}`: the eigenvalues :math:`\lambda \le \tau`, from the inertia.
+        self.pressure_modes = self.constraints - negative
+
+    @staticmethod
+    def _dirichlet_count(problem: LinearContactProblem) -> int:
+        return int(np.count_nonzero(~dirichlet_free(problem)))
+
+    def _scatter(self, x: PETSc.Vec, y: PETSc.Vec, forward: bool) -> None:
+        """Copy the multipliers between ``x`` (multiplier space) and ``y`` (saddle)."""
+        for is_m, is_s in zip(self._is_mult, self._is_saddle, strict=True):
+            a, b = x.getSubVector(is_m), y.getSubVector(is_s)
+            if forward:
+                b.array[:] = a.array_r
+            else:
+                a.array[:] = b.array_r
+            x.restoreSubVector(is_m, a)
+            y.restoreSubVector(is_s, b)
+
+    def solve(self, eigenvalues: int = 1, tol: float = 1e-10) -> InfSup:
+        r"""Compute :math:`\beta^*_h` (Eq. 27) and the smallest ``eigenvalues`` of Eq. (30).
+
+        Raises:
+            RuntimeError: On every rank, if SLEPc does not converge.
+        """
+        from slepc4py import SLEPc
+
+        if self.pressure_modes > 0:
+            return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
+        context = _InverseSchur(self)
+        n_local = self.P.getLocalSize()[0]
+        op = PETSc.Mat().createPython([[n_local, self.constraints]] * 2, context, comm=self.comm)
+        op.setUp()
+        eps = SLEPc.EPS().create(self.comm)
+        eps.setOperators(op, self.P)
+        eps.setProblemType(SLEPc.EPS.ProblemType.GHEP)
+        eps.setWhichEigenpairs(SLEPc.EPS.Which.LARGEST_REAL)
+        # The smallest eigenvalues cluster (more so on finer meshes): a wide basis
+        # saves restarts, hence back-substitutions.
+        nev = min(eigenvalues, self.constraints)
+        eps.setDimensions(nev, min(self.constraints, max(2 * nev, 48)))
+        eps.setTolerances(tol, 1000)
+        st = eps.getST()
+        st.setType(SLEPc.ST.Type.SHIFT)
+        st_ksp = st.getKSP()
+        st_ksp.setType("preonly")
+        st_ksp.getPC().setType("cholesky")
+        st_ksp.getPC().setFactorSolverType("mumps")
+        self.options.apply(eps)
+        eps.solve()
+        nconv = eps.getConverged()
+        if nconv < 1:
+            iterations = eps.getIterationNumber()
+            eps.destroy()
+            op.destroy()
+            raise RuntimeError(
+                f"the inf-sup eigensolver did not converge ({iterations} iterations)"
+            )
+        mu = sorted((eps.getEigenvalue(i).real for i in range(nconv)), reverse=True)
+        lam = tuple(self.shift + 1.0 / m for m in mu[:eigenvalues])
+        eps.destroy()
+        op.destroy()
+        return InfSup(
+            float(np.sqrt(lam[0])),
+            0,
+            self.constraints,
+            self.displacements,
+            self.h,
+            eigenvalues=lam,
+            solves=context.solves,
+        )
+
+    def inverse_schur(self, block: int = 64) -> npt.NDArray[np.floating]:
+        r"""Dense :math:`(\Sigma - \tau \mathbf P)^{-1}`, scaled, on every process.
+
+        One back-substitution per multiplier, ``block`` right-hand sides at a time
+        (``MatMatSolve``): meant for a moderate number :math:`n` of multipliers.
+        """
+        n = self.constraints
+        Y = np.zeros((n, n))
+        start, end = self.P.getOwnershipRange()
+        # Rows of the saddle-point vector that hold the owned multipliers, in order.
+        rows = np.empty(end - start, dtype=np.int64)
+        r0 = self.A.getOwnershipRange()[0]
+        for is_m, is_s in zip(self._is_mult, self._is_saddle, strict=True):
+            rows[is_m.getIndices() - start] = is_s.getIndices() - r0
+        F = self.ksp.getPC().getFactorMatrix()
+        local = self.A.getLocalSize()[0]
+        for first in range(0, n, block):
+            cols = np.arange(first, min(first + block, n))
+            E = PETSc.Mat().createDense([[local, None], [None, cols.size]], comm=self.comm)
+            E.setUp()
+            e = E.getDenseArray()
+            e[:] = 0.0
+            owned = cols[(cols >= start) & (cols < end)]
+            e[rows[owned - start], owned - first] = 1.0
+            E.assemble()
+            X = E.duplicate()
+            F.matSolve(E, X)
+            Y[start:end, cols] = -X.getDenseArray()[rows, :]
+            E.destroy()
+            X.destroy()
+        Y = self.comm.allreduce(Y)
+        return 0.5 * (Y + Y.T)
+
+    def _smallest(self, N: npt.NDArray[np.floating], count: int = 1) -> npt.NDArray:
+        r"""Smallest eigenvalues of :math:`\Sigma \mathbf x = \lambda \mathbf N \mathbf x`.
+
+        With :math:`\mathbf Y = (\Sigma - \tau \mathbf P)^{-1} = \mathbf L \mathbf
+        L^T`, :math:`\mathbf x = \mathbf L \mathbf w` turns it into :math:`\mathbf L^T
+        \mathbf N \mathbf L \mathbf w = \lambda^{-1} (\mathbf I + \tau \mathbf L^T
+        \mathbf P \mathbf L) \mathbf w`: the wanted eigenvalues are the largest of a
+        pencil whose right-hand matrix is close to the identity, so nothing
+        ill-conditioned is inverted.
+        """
+        L = np.linalg.cholesky(self.inverse_schur())
+        P = gather_dense(self.P)
+        right = np.eye(L.shape[0]) + self.shift * (L.T @ P @ L)
+        nu = scipy.linalg.eigh(L.T @ N @ L, right, eigvals_only=True)[::-1]
+        return 1.0 / nu[:count]
+
+    def solve_dense(self) -> InfSup:
+        r""":math:`\beta^*_h` from the dense :meth:`inverse_schur`.
+
+        Block back-substitutions instead of the Krylov eigensolver of :meth:`solve`: the
+        cost grows with the number of multipliers, not with the conditioning of the
+        eigenproblem.
+        """
+        if self.pressure_modes > 0:
+            return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
+        lam = self._smallest(gather_dense(self.P), 4)
+        return InfSup(
+            float(np.sqrt(lam[0])),
+            0,
+            self.constraints,
+            self.displacements,
+            self.h,
+            eigenvalues=tuple(float(x) for x in lam),
+            solves=self.constraints,
+        )
+
+    def _dense_order(self, problem: LinearContactProblem) -> npt.NDArray[np.int64]:
+        """Position in the scaled multiplier vector of each row of :func:`_stack_pairs`."""
+        order = []
+        for pair, op, is_m in zip(problem.pairs, problem.operators, self._is_mult, strict=True):
+            start, end = pair.Q.dofmap.index_map.local_range
+            active = np.setdiff1d(np.arange(start, end, dtype=np.int64), op.inactive)
+            parts = self.comm.allgather((active, is_m.getIndices().astype(np.int64)))
+            dofs = np.concatenate([a for a, _ in parts])
+            positions = np.concatenate([b for _, b in parts])
+            order.append(positions[np.argsort(dofs)])
+        return np.concatenate(order)
+
+    def beta_full(self, problem: LinearContactProblem) -> float:
+        r""":math:`\beta_h` of Eq. (22), from :meth:`inverse_schur` and :func:`dual_norm_matrix`.
+
+        :math:`\beta_h^2` is the smallest eigenvalue of :math:`\Sigma \mathbf M =
+        \lambda \mathbf T \mathbf M`; 0 where pressure modes exist.
+        """
+        if self.pressure_modes > 0:
+            return 0.0
+        order = self._dense_order(problem)
+        D = self.comm.allreduce(self._scaling_local())
+        T = stack_pairs(problem, dual_norm_matrix)
+        T_scaled = np.empty_like(T)
+        T_scaled[np.ix_(order, order)] = T * np.outer(D[order], D[order])
+        return float(np.sqrt(self._smallest(T_scaled)[0]))
+
+    def _scaling_local(self) -> npt.NDArray[np.floating]:
+        """The scaling :math:`(h P_{ii})^{-1/2}` of the owned multipliers, in place."""
+        out = np.zeros(self.constraints)
+        start, end = self.P.getOwnershipRange()
+        out[start:end] = self._scaling.array_r
+        return out
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects and remove the options from the database."""
+        for obj in [
+            self.ksp,
+            self.A,
+            self.P,
+            self._nest,
+            self._P_nest,
+            self._rhs,
+            self._sol,
+            self._z,
+            self._scaling,
+            *self._S,
+            *self._owned,
+        ]:
+            obj.destroy()
+        self.options.clear()
+
+
+def inf_sup(problem: LinearContactProblem, h: float, **options) -> InfSup:
+    r""":math:`\beta^*_h` of Eq. (27) with :class:`InfSupTest` (one factorization, SLEPc).
+
+    Args:
+        problem: The contact problem.
+        h: Element size.
+        options: Passed to :class:`InfSupTest`.
+    """
+    test = InfSupTest(problem, h, **options)
     try:
-        scalable = test.solve()
-        beta_full = test.beta_full(problem) if full else None
-        rec = {
-            "n": n,
-            "elements": list(FAMILIES[case.family](n)),
-            "h": h,
-            "displacements": test.displacements,
-            "constraints": test.constraints,
-            "beta": scalable.beta,
-            "beta_full": beta_full,
-            "pressure_modes": test.pressure_modes,
-            "rank_deficiency": solvability(problem).redundant,
-            "solves": scalable.solves,
-        }
-        if test.displacements <= dense_limit:
-            dense = inf_sup_dense(problem, h, full=False)
-            rec.update(beta_dense=dense.beta, pressure_modes_dense=dense.pressure_modes)
+        return test.solve()
     finally:
         test.destroy()
-        problem.destroy()
-    return rec
-
-
-def slope(levels: Sequence[dict]) -> float | None:
-    r"""Least-squares slope of :math:`\log \beta^*_h` against :math:`\log h`.
-
-    Fitted on the levels :math:`n \ge` :data:`FIT_FROM`; ``None`` if some
-    :math:`\beta^*_h` is zero.
-    """
-    fine = [rec for rec in levels if rec["n"] >= FIT_FROM] or list(levels)
-    if len(fine) < 2 or any(rec["beta"] <= 0 for rec in fine):
-        return None
-    x = np.log([rec["h"] for rec in fine])
-    y = np.log([rec["beta"] for rec in fine])
-    return float(np.polyfit(x, y, 1)[0])
-
-
-def verdicts(levels: Sequence[dict]) -> dict:
-    """``slope``, ``solvable`` and ``stable`` of one family from its level records."""
-    solvable = all(rec["rank_deficiency"] == 0 for rec in levels)
-    s = slope(levels) if solvable else None
-    return {"slope": s, "solvable": solvable, "stable": s is not None and s < STABLE_SLOPE}
-
-
-def run_case(
-    comm: MPI.Comm,
-    case: InfSupCase,
-    levels: Sequence[int] = LEVELS,
-    progress: Callable[[dict], None] | None = None,
-    **options,
-) -> dict:
-    """Run ``case`` on ``levels``: the record of ``results/infsup.json``."""
-    rec = case.record()
-    rec["levels"] = []
-    for n in levels:
-        level = level_record(comm, case, n, **options)
-        rec["levels"].append(level)
-        if progress is not None:
-            progress(level)
-    rec.update(verdicts(rec["levels"]))
-    return rec
-
-
-def table(records: Sequence[dict], degree: int) -> list[dict]:
-    """Table 1 (``degree`` 1) or 2 (``degree`` 2) from S2S records, beside the paper's.
-
-    A multiplier space is solvable (stable) if it is so on every family and with
-    either contactor.
-    """
-    rows = []
-    for (k, multiplier), (stable, solvable) in TABLES.items():
-        if k != degree:
-            continue
-        mine = [
-            r
-            for r in records
-            if r["method"] == "segment-to-segment"
-            and r["degree"] == degree
-            and tuple(r["multiplier"] or ("Lagrange", degree)) == multiplier
-        ]
-        if not mine:
-            continue
-        computed_solvable = all(r["solvable"] for r in mine)
-        computed_stable = computed_solvable and all(r["stable"] for r in mine)
-        rows.append(
-            {
-                "multiplier": list(multiplier),
-                "paper_stable": stable,
-                "paper_solvable": solvable,
-                "stable": computed_stable,
-                "solvable": computed_solvable,
-                "agrees": (computed_stable, computed_solvable) == (stable, solvable),
-                "families": len(mine),
-            }
-        )
-    return rows
-
-
-def study_cases(families: Sequence[str] = tuple(FAMILIES)) -> list[InfSupCase]:
-    """The cases of the study, on every family with either surface as contactor.
-
-    Every multiplier of Tables 1-2 with S2S, single- and two-pass node-to-segment (Figs. 8
-    and 11) and the intermediate surface.
-    """
-    cases = []
-    for family in families:
-        for contactor in ("upper", "lower"):
-            base = {"family": family, "contactor": contactor}
-            for degree, multiplier in TABLES:
-                cases.append(InfSupCase(multiplier=multiplier, degree=degree, **base))
-            for method in ("node-to-segment", "two-pass node-to-segment", "intermediate-surface"):
-                cases.append(InfSupCase(method=method, **base))
-    return cases

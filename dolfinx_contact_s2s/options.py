@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""One options policy for every PETSc solver of the package.
+"""One options policy, and one account of a failed solve, for every PETSc solver.
 
 As :class:`dolfinx.fem.petsc.LinearProblem`: a mandatory, non-empty prefix, and
 ``petsc_options`` set under it. Unlike a set-then-delete policy, the options stay in
@@ -20,7 +20,7 @@ import typing
 
 from petsc4py import PETSc
 
-__all__ = ["PETScOptions"]
+__all__ = ["MUMPS_WORKSPACE_ERRORS", "PETScOptions", "mumps_factor", "solver_failure"]
 
 
 class PETScOptions:
@@ -90,3 +90,40 @@ class PETScOptions:
             else:
                 self._db[name] = previous
         self._replaced.clear()
+
+
+#: MUMPS errors that more workspace cures (INFOG(1), MUMPS user's guide, section 8).
+MUMPS_WORKSPACE_ERRORS = (-8, -9, -11, -12, -14, -15, -17, -20)
+
+_KSP_REASONS = {
+    v: k for k, v in vars(PETSc.KSP.ConvergedReason).items() if isinstance(v, int) and k.isupper()
+}
+
+
+def mumps_factor(ksp: PETSc.KSP) -> PETSc.Mat | None:
+    """The MUMPS factor of a direct solver, or ``None``."""
+    pc = ksp.getPC()
+    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+        return None
+    return pc.getFactorMatrix()
+
+
+def solver_failure(ksp: PETSc.KSP, prefix: str) -> str:
+    """Why a KSP solve failed, in words, naming the option to change where there is one."""
+    reason = ksp.getConvergedReason()
+    text = f"KSP reason {_KSP_REASONS.get(reason, reason)} ({reason})"
+    F = mumps_factor(ksp)
+    if F is None:
+        return f"{text} after {ksp.getIterationNumber()} iterations"
+    info = F.getMumpsInfog(1)
+    if info in MUMPS_WORKSPACE_ERRORS:
+        return (
+            f"{text}: MUMPS ran out of workspace (INFOG(1) = {info}) with ICNTL(14) = "
+            f"{F.getMumpsIcntl(14)}; raise it with petsc_options={{'mat_mumps_icntl_14': ...}} "
+            f"or -{prefix}mat_mumps_icntl_14"
+        )
+    if info == -13:
+        return f"{text}: MUMPS could not allocate memory (INFOG(1) = -13)"
+    if info == -10:
+        return f"{text}: MUMPS found the matrix numerically singular (INFOG(1) = -10)"
+    return f"{text}: MUMPS INFOG(1) = {info}, INFOG(2) = {F.getMumpsInfog(2)}"

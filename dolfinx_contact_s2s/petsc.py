@@ -1,13 +1,15 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""PETSc assembly of the coupling block and the saddle-point contact problem (Eq. 18).
+"""PETSc assembly of a pair's coupling operator (Eqs. 17, 40) and multiplier mass (Eq. 29).
 
-This module needs petsc4py and must be imported explicitly, as ``dolfinx.fem.petsc``.
+Functions only: the operator is assembled once and never modified in place; the
+problems of :mod:`dolfinx_contact_s2s.problem` apply Dirichlet conditions and inactive
+rows to copies. This module needs petsc4py and must be imported explicitly, as
+``dolfinx.fem.petsc``.
 """
 
 from __future__ import annotations
 
-import typing
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -24,14 +26,11 @@ from dolfinx_contact_s2s.coupling import ContactPair
 
 __all__ = [
     "UNCOVERED_TOLERANCE",
-    "ContactProblem",
     "CouplingOperator",
     "assemble_coupling",
     "gather_dense",
     "multiplier_mass",
 ]
-
-_DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
 
 def _to_owners(
@@ -261,260 +260,6 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     D = _lumped(pair, M)
     M.destroy()
     return D
-
-
-def _active_rows(pair: ContactPair, G: PETSc.Vec) -> PETSc.Vec:
-    """1 for the active multipliers of a pair, 0 for those in ``pair.inactive``."""
-    active = G.duplicate()
-    active.set(1.0)
-    active.setValues(
-        pair.inactive.astype(PETSc.IntType),
-        np.zeros(pair.inactive.size),
-        addv=PETSc.InsertMode.INSERT_VALUES,
-    )
-    active.assemble()
-    return active
-
-
-def _space(form: ufl.Form) -> dolfinx.fem.FunctionSpace:
-    return form.arguments()[0].ufl_function_space()
-
-
-def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool:
-    # bc.function_space is a C++ space in some DOLFINx versions, a Python one in others.
-    W = bc.function_space
-    return V._cpp_object.contains(getattr(W, "_cpp_object", W))
-
-
-class ContactProblem:
-    r"""Linear elastic bodies tied by Lagrange-multiplier contact on a known contact surface.
-
-    Assembles and solves Eq. (18) in the form
-
-    .. math::
-        \begin{bmatrix} \mathbf K & -\mathbf B^T \\ -\mathbf B & \mathbf 0 \end{bmatrix}
-        \begin{Bmatrix} \mathbf U \\ \mathbf \Lambda \end{Bmatrix} =
-        \begin{Bmatrix} \mathbf F \\ \mathbf G \end{Bmatrix},
-
-    which is Eq. (15) with every constraint active: :math:`a(\mathbf u, \mathbf v) -
-    b(\mathbf v, \lambda) = (\mathbf f, \mathbf v)` and a zero gap :math:`b(\mathbf u,
-    \mu) + \int \mu g_0 = 0`, so that :math:`\lambda` is the contact pressure,
-    positive in compression. The matrix is built as a ``MatNest`` (bodies, then pairs)
-    and converted to AIJ for a direct solver; :attr:`fields` holds the index sets of
-    the blocks for field-split preconditioners.
-
-    Dirichlet conditions are applied to :math:`\mathbf K` as in
-    :func:`dolfinx.fem.petsc.assemble_matrix` (unit diagonal); their columns in
-    :math:`\mathbf B` are removed and their values moved to :math:`\mathbf G`.
-    """
-
-    def __init__(
-        self,
-        a: Sequence[ufl.Form],
-        L: Sequence[ufl.Form],
-        pairs: Sequence[ContactPair],
-        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
-        *,
-        petsc_options_prefix: str,
-        petsc_options: dict[str, typing.Any] | None = None,
-        form_compiler_options: dict | None = None,
-        jit_options: dict | None = None,
-    ):
-        """Assemble the saddle-point system.
-
-        Args:
-            a: Bilinear form of each body (its arguments define the body's space).
-            L: Linear form of each body.
-            pairs: Contact pairs between the bodies' spaces.
-            bcs: Dirichlet conditions on any of the bodies.
-            petsc_options_prefix: Prefix of the solver's options database entries.
-            petsc_options: Options set under the prefix; if not given, MUMPS LU
-                (``ksp_type=preonly``, ``pc_type=lu``, ``pc_factor_mat_solver_type=mumps``).
-                Command-line options under the prefix apply too.
-            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
-            jit_options: Passed to :func:`dolfinx.fem.form`.
-        """
-        if len(a) != len(L):
-            raise ValueError("one bilinear and one linear form per body are needed")
-        self.spaces = [_space(ai) for ai in a]
-        comm = self.spaces[0].mesh.comm
-        opts = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
-        self._a = [dolfinx.fem.form(ai, **opts) for ai in a]
-        self._L = [dolfinx.fem.form(Li, **opts) for Li in L]
-        self.pairs = list(pairs)
-
-        def body(V: dolfinx.fem.FunctionSpace) -> int:
-            for i, W in enumerate(self.spaces):
-                if W is V:
-                    return i
-            raise ValueError("a contact pair's surface is not on any body of the problem")
-
-        self._body_bcs = [[bc for bc in bcs if _contains(V, bc)] for V in self.spaces]
-        nb, npairs = len(self.spaces), len(self.pairs)
-        blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
-        self._K = []
-        self._F = []
-        for i, (ai, Li, bci) in enumerate(zip(self._a, self._L, self._body_bcs, strict=True)):
-            K = dolfinx.fem.petsc.assemble_matrix(ai, bcs=bci)
-            K.assemble()
-            F = dolfinx.fem.petsc.assemble_vector(Li)
-            dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bci])
-            F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-            dolfinx.fem.petsc.set_bc(F, bci)
-            blocks[i][i] = K
-            self._K.append(K)
-            self._F.append(F)
-
-        self._G = []
-        self._B = []
-        self.constraints: list[tuple[PETSc.Mat, PETSc.Mat]] = []
-        for j, pair in enumerate(self.pairs):
-            op = assemble_coupling(pair)
-            G = op.G
-            active = _active_rows(pair, G)
-            G.pointwiseMult(G, active)
-            for V, Bi in op.blocks:
-                i = body(V)
-                x_bc, keep = self._dirichlet_vectors(i)
-                # -B U = G with U = U_free + U_D  =>  -B U_free = G + B U_D.
-                Bi.diagonalScale(active, None)
-                Bi.multAdd(x_bc, G, G)
-                Bi.diagonalScale(None, keep)
-                Bi.scale(-1.0)
-                Bt = PETSc.Mat()
-                Bi.transpose(Bt)
-                blocks[nb + j][i] = Bi
-                blocks[i][nb + j] = Bt
-                self._B.extend([Bi, Bt])
-                x_bc.destroy()
-                keep.destroy()
-            self.constraints.append(
-                (blocks[nb + j][body(pair.contactor.V)], blocks[nb + j][body(pair.target.V)])
-            )
-            if pair.inactive.size:
-                # Inactive multipliers: the row reads lambda_i = 0.
-                D = PETSc.Mat().createAIJ(
-                    [[G.getLocalSize(), G.getSize()]] * 2, nnz=(1, 0), comm=comm
-                )
-                inactive = active.duplicate()
-                inactive.set(1.0)
-                inactive.axpy(-1.0, active)
-                D.setDiagonal(inactive)
-                D.assemble()
-                blocks[nb + j][nb + j] = D
-                self._B.append(D)
-                inactive.destroy()
-            active.destroy()
-            self._G.append(G)
-
-        self._nest = PETSc.Mat().createNest(blocks, comm=comm)
-        self._nest.assemble()
-        self.fields = list(self._nest.getNestISs()[0])
-        self.A = self._nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
-
-        self.b = self.A.createVecLeft()
-        for is_, v in zip(self.fields, self._F + self._G, strict=True):
-            sub = self.b.getSubVector(is_)
-            sub.array[:] = v.array_r[: sub.getLocalSize()]
-            self.b.restoreSubVector(is_, sub)
-        self.x = self.A.createVecRight()
-
-        self.u = [dolfinx.fem.Function(V, name=f"u{i}") for i, V in enumerate(self.spaces)]
-        self.pressure = [
-            dolfinx.fem.Function(p.Q, name=f"pressure{j}") for j, p in enumerate(self.pairs)
-        ]
-
-        self.ksp = PETSc.KSP().create(comm)
-        self.ksp.setOperators(self.A)
-        self.ksp.setOptionsPrefix(petsc_options_prefix)
-        self.A.setOptionsPrefix(petsc_options_prefix)
-        # Set the options, apply them, and take them out of the global database again.
-        # Defaults yield to the command line; explicit petsc_options do not.
-        options = PETSc.Options()
-        given = petsc_options if petsc_options is not None else _DEFAULT_OPTIONS
-        added = []
-        for k, v in given.items():
-            name = f"{petsc_options_prefix}{k}"
-            if petsc_options is None and options.hasName(name):
-                continue
-            options[name] = v
-            added.append(name)
-        self.ksp.setFromOptions()
-        self.A.setFromOptions()
-        for name in added:
-            options.delValue(name)
-
-    def _dirichlet_vectors(self, i: int) -> tuple[PETSc.Vec, PETSc.Vec]:
-        """Dirichlet values of body ``i`` and a 0/1 mask of its free dofs (owned layout)."""
-        V = self.spaces[i]
-        bcs = self._body_bcs[i]
-        values = dolfinx.fem.Function(V)
-        keep = dolfinx.fem.Function(V)
-        keep.x.array[:] = 1.0
-        for bc in bcs:
-            bc.set(values.x.array)
-            dofs, _ = bc.dof_indices()
-            keep.x.array[dofs] = 0.0
-        n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-        x_bc = PETSc.Vec().createWithArray(values.x.array[:n].copy(), comm=V.mesh.comm)
-        mask = PETSc.Vec().createWithArray(keep.x.array[:n].copy(), comm=V.mesh.comm)
-        return x_bc, mask
-
-    def solve(self) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
-        """Solve Eq. (18).
-
-        Returns:
-            The displacement of every body and the contact pressure of every pair.
-
-        Raises:
-            RuntimeError: On every rank, if the solver does not converge.
-        """
-        self.ksp.solve(self.b, self.x)
-        reason = self.ksp.getConvergedReason()
-        if reason < 0:
-            raise RuntimeError(f"the contact solve failed to converge (KSP reason {reason})")
-        for is_, f in zip(self.fields, self.u + self.pressure, strict=True):
-            sub = self.x.getSubVector(is_)
-            f.x.array[: sub.getLocalSize()] = sub.array_r
-            self.x.restoreSubVector(is_, sub)
-            f.x.scatter_forward()
-        return self.u, self.pressure
-
-    def contact_forces(self) -> list[dolfinx.fem.Function]:
-        r"""Nodal contact force on every body, :math:`\sum_j \mathbf B_{j,i}^T \Lambda_j`.
-
-        Call after :meth:`solve`. Dirichlet dofs carry no contact force.
-        """
-        forces = []
-        nb = len(self.spaces)
-        for i, V in enumerate(self.spaces):
-            f = dolfinx.fem.Function(V, name=f"contact_force{i}")
-            for j, lam in enumerate(self.pressure):
-                block = self._nest.getNestSubMatrix(i, nb + j)
-                if block.handle == 0:
-                    continue
-                y = block.createVecLeft()
-                block.mult(lam.x.petsc_vec, y)
-                f.x.array[: y.getLocalSize()] -= y.array_r
-                y.destroy()
-            f.x.scatter_forward()
-            forces.append(f)
-        return forces
-
-    def destroy(self) -> None:
-        """Destroy the PETSc objects held by the problem."""
-        for obj in [
-            self.ksp,
-            self.A,
-            self._nest,
-            self.b,
-            self.x,
-            *self._K,
-            *self._F,
-            *self._G,
-            *self._B,
-        ]:
-            obj.destroy()
 
 
 def gather_dense(A: PETSc.Mat) -> npt.NDArray[np.floating]:

@@ -30,51 +30,20 @@ import ufl
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.coupling import ContactPair
-from dolfinx_contact_s2s.options import PETScOptions
+from dolfinx_contact_s2s.options import (
+    MUMPS_WORKSPACE_ERRORS,
+    PETScOptions,
+    mumps_factor,
+    solver_failure,
+)
 from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling
 
-__all__ = ["DEFAULT_OPTIONS", "LinearContactProblem", "solver_failure"]
+__all__ = ["DEFAULT_OPTIONS", "LinearContactProblem"]
 
 logger = logging.getLogger(__name__)
 
 #: Solver defaults; each yields to ``petsc_options`` and to the options database.
 DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
-
-#: MUMPS errors that more workspace cures (INFOG(1), MUMPS user's guide, section 8).
-_MUMPS_WORKSPACE = (-8, -9, -11, -12, -14, -15, -17, -20)
-
-_KSP_REASONS = {
-    v: k for k, v in vars(PETSc.KSP.ConvergedReason).items() if isinstance(v, int) and k.isupper()
-}
-
-
-def _mumps_factor(ksp: PETSc.KSP) -> PETSc.Mat | None:
-    """The MUMPS factor of a direct solver, or ``None``."""
-    pc = ksp.getPC()
-    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
-        return None
-    return pc.getFactorMatrix()
-
-
-def solver_failure(ksp: PETSc.KSP, prefix: str) -> str:
-    """Why a KSP solve failed, in words, naming the option to change where there is one."""
-    reason = ksp.getConvergedReason()
-    text = f"KSP reason {_KSP_REASONS.get(reason, reason)} ({reason})"
-    F = _mumps_factor(ksp)
-    if F is None:
-        return f"{text} after {ksp.getIterationNumber()} iterations"
-    info = F.getMumpsInfog(1)
-    if info in _MUMPS_WORKSPACE:
-        return (
-            f"{text}: MUMPS ran out of workspace (INFOG(1) = {info}) with ICNTL(14) = "
-            f"{F.getMumpsIcntl(14)}; raise it with petsc_options={{'mat_mumps_icntl_14': ...}} "
-            f"or -{prefix}mat_mumps_icntl_14"
-        )
-    if info == -13:
-        return f"{text}: MUMPS could not allocate memory (INFOG(1) = -13)"
-    if info == -10:
-        return f"{text}: MUMPS found the matrix numerically singular (INFOG(1) = -10)"
-    return f"{text}: MUMPS INFOG(1) = {info}, INFOG(2) = {F.getMumpsInfog(2)}"
 
 
 def _as_list(forms: typing.Any) -> list:
@@ -85,6 +54,16 @@ def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool
     # bc.function_space is a C++ space in some DOLFINx versions, a Python one in others.
     W = bc.function_space
     return V._cpp_object.contains(getattr(W, "_cpp_object", W))
+
+
+def _dof_coordinates(Q: dolfinx.fem.FunctionSpace) -> npt.NDArray[np.floating]:
+    """Coordinates of every global dof of a scalar space, on every process."""
+    imap = Q.dofmap.index_map
+    x = Q.tabulate_dof_coordinates()[: imap.size_local]
+    out = np.zeros((imap.size_global, 3))
+    for start, xs in Q.mesh.comm.allgather((imap.local_range[0], x)):
+        out[start : start + xs.shape[0]] = xs
+    return out
 
 
 def _create_vector(V: dolfinx.fem.FunctionSpace) -> PETSc.Vec:
@@ -287,7 +266,7 @@ class LinearContactProblem:
         self.A = self.b = self.x = None
 
     def assemble(self, check: bool = True) -> None:
-        """Assemble :math:`\\mathbf K`, :math:`\\mathbf F`, the coupling and the saddle point.
+        r"""Assemble :math:`\mathbf K`, :math:`\mathbf F`, the coupling and the saddle point.
 
         Args:
             check: Check the support of every body (Eq. 33) and the rank of the
@@ -364,7 +343,7 @@ class LinearContactProblem:
 
         if check:
             self._check_support(masks)
-            self._check_redundancy()
+            self._check_redundancy(masks)
 
         nest = PETSc.Mat().createNest(blocks, comm=self.comm)
         nest.assemble()
@@ -424,17 +403,28 @@ class LinearContactProblem:
                 "Add a Dirichlet condition (or a contact pair) that holds each of them."
             )
 
-    def _check_redundancy(self) -> None:
-        for j, (pair, masked) in enumerate(zip(self.pairs, self.constraints, strict=True)):
-            report = checks.redundant_constraints(
-                [B for _, B in masked], inactive=self.operators[j].inactive
-            )
-            if report.count:
-                raise ValueError(
-                    f"pair {j} ({pair.method}, contactor tag {pair.contactor.tag}) has "
-                    f"{report.count} redundant constraint(s): B has no full row rank "
-                    f"(Eq. 35), so the multipliers are not determined. {report.describe()}"
+    def _check_redundancy(self, masks: list[PETSc.Vec]) -> None:
+        for j, (pair, op) in enumerate(zip(self.pairs, self.operators, strict=True)):
+            blocks = [B for _, B in op.blocks]
+            block_masks = [masks[self.space_index(V)] for V, _ in op.blocks]
+            report = checks.redundant_constraints(blocks, block_masks, op.inactive)
+            if report.redundant == 0:
+                continue
+            named = ""
+            if report.active <= 2000:
+                rows = checks.redundant_multipliers(blocks, block_masks, op.inactive)
+                x = _dof_coordinates(pair.Q)
+                named = " Dependent multipliers, at: " + "; ".join(
+                    ", ".join(f"({x[k, 0]:.4g}, {x[k, 1]:.4g})" for k in group[:4])
+                    for group in rows[:5]
                 )
+            raise ValueError(
+                f"pair {j} ({pair.method}, contactor tag {pair.contactor.tag}) has "
+                f"{report.redundant} redundant constraint(s) of {report.active} ({report.zero} "
+                "act only on Dirichlet dofs): B has no full row rank (Eq. 35), so the "
+                f"multipliers are not determined.{named} Choose a stable discretization "
+                "(segment-to-segment with a continuous multiplier, section 5)."
+            )
 
     # --- solve ----------------------------------------------------------------------
 
@@ -453,10 +443,10 @@ class LinearContactProblem:
         assert self.A is not None and self.b is not None and self.x is not None
         self.solver.solve(self.b, self.x)
         for _ in range(self.workspace_retries):
-            F = _mumps_factor(self.solver)
+            F = mumps_factor(self.solver)
             if self.solver.getConvergedReason() >= 0 or F is None:
                 break
-            if F.getMumpsInfog(1) not in _MUMPS_WORKSPACE:
+            if F.getMumpsInfog(1) not in MUMPS_WORKSPACE_ERRORS:
                 break
             icntl = max(2 * F.getMumpsIcntl(14), F.getMumpsIcntl(14) + 50)
             logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
@@ -504,7 +494,9 @@ class LinearContactProblem:
         Call after :meth:`solve`. Includes the forces at Dirichlet dofs (taken by the
         supports).
         """
-        forces = [dolfinx.fem.Function(V, name=f"contact_force{i}") for i, V in enumerate(self.spaces)]
+        forces = [
+            dolfinx.fem.Function(V, name=f"contact_force{i}") for i, V in enumerate(self.spaces)
+        ]
         for op, lam in zip(self.operators, self.multipliers, strict=True):
             for V, B in op.blocks:
                 f = forces[self.space_index(V)]

@@ -23,7 +23,22 @@ import dolfinx
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 
-__all__ = ["Body", "PatchTestScene", "inf_sup_model", "patch_test"]
+__all__ = ["Body", "PatchTestScene", "inf_sup_model", "model_to_mesh", "patch_test"]
+
+
+def model_to_mesh(
+    model: typing.Any, comm: MPI.Comm, rank: int = 0, gdim: int = 2
+) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
+    """DOLFINx's Gmsh reader, whatever its version: ``(mesh, cell_tags, facet_tags)``.
+
+    Args:
+        model: The Gmsh model (``gmsh.model``), built on ``rank``.
+        comm: Communicator to distribute the mesh over.
+        rank: Rank that holds the model.
+        gdim: Geometric dimension.
+    """
+    return gmsh_model_to_mesh(model, comm, rank, gdim)
+
 
 #: Facet tags of a rectangular block.
 BOTTOM, RIGHT, TOP, LEFT = 1, 2, 3, 4

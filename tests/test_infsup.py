@@ -15,7 +15,9 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from dolfinx_contact_s2s.infsup import (
+from dolfinx_contact_s2s.infsup import InfSupTest, inf_sup
+from dolfinx_contact_s2s.stability import inf_sup_dense, solvability
+from dolfinx_contact_s2s.studies.infsup import (
     FIT_FROM,
     STABLE_SLOPE,
     TABLES,
@@ -25,7 +27,6 @@ from dolfinx_contact_s2s.infsup import (
     study_cases,
     table,
 )
-from dolfinx_contact_s2s.stability import InfSupTest, inf_sup, inf_sup_dense, solvability
 
 comm = MPI.COMM_WORLD
 
@@ -237,7 +238,7 @@ def test_bad_input():
 
 def test_slope_of_a_power_law():
     """The verdict's fitted slope recovers the exponent of beta = h^s exactly."""
-    from dolfinx_contact_s2s.infsup import slope, verdicts
+    from dolfinx_contact_s2s.studies.infsup import slope, verdicts
 
     for s in (0.0, 0.5, 1.0):
         levels = [

@@ -17,6 +17,7 @@ import ufl
 from dolfinx_contact_s2s import Material, contact_pairs, contact_surface, scenes
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.stability import solvability
+from dolfinx_contact_s2s.studies.blocks import block_problem
 
 comm = MPI.COMM_WORLD
 MATERIALS = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=3.0, nu=0.2)}
@@ -128,30 +129,32 @@ def test_database_options_beat_the_defaults():
         options.delValue("cli_ksp_rtol")
 
 
-def test_mumps_workspace_error_is_recovered():
-    """ICNTL(14) = 0 leaves no room for the delayed pivots of the saddle point.
+#: No workspace beyond MUMPS's estimate (ICNTL(14) = 0), and a pivoting threshold (CNTL(1))
+#: that delays many pivots of the saddle point's zero block: INFOG(1) = -9.
+TIGHT_WORKSPACE = {"mat_mumps_icntl_14": 0, "mat_mumps_cntl_1": 0.9}
 
-    Either the first factorization succeeds, or the solve raises ICNTL(14) and retries;
-    the answer is the patch test's either way.
-    """
-    options = {"mat_mumps_icntl_14": 0}
-    with readme_problem(prefix="ws_", degree=2, petsc_options=options) as problem:
+
+def test_mumps_workspace_error_is_provoked():
+    """The options above do make the first factorization fail with INFOG(1) = -9."""
+    with readme_problem(prefix="ws0_", degree=2, petsc_options=TIGHT_WORKSPACE) as problem:
+        problem.assemble()
+        problem.solver.solve(problem.b, problem.x)
+        assert problem.solver.getConvergedReason() < 0
+        assert problem.solver.getPC().getFactorMatrix().getMumpsInfog(1) == -9
+
+
+def test_mumps_workspace_error_is_recovered():
+    """The solve raises ICNTL(14) and factorizes again: the patch test's answer."""
+    with readme_problem(prefix="ws1_", degree=2, petsc_options=TIGHT_WORKSPACE) as problem:
         problem.solve()
+        assert problem.solver.getPC().getFactorMatrix().getMumpsIcntl(14) > 0
         assert max_pressure_error(problem) < 1e-10
 
 
 def test_mumps_workspace_error_names_the_option():
-    options = {"mat_mumps_icntl_14": 0}
-    with readme_problem(prefix="ws2_", degree=2, petsc_options=options) as problem:
+    with readme_problem(prefix="ws2_", degree=2, petsc_options=TIGHT_WORKSPACE) as problem:
         problem.workspace_retries = 0
-        problem.assemble()
-        problem.solver.solve(problem.b, problem.x)
-        failed = problem.solver.getConvergedReason() < 0
-    if not failed:
-        pytest.skip("MUMPS factorized this saddle point without extra workspace")
-    with readme_problem(prefix="ws3_", degree=2, petsc_options=options) as problem:
-        problem.workspace_retries = 0
-        with pytest.raises(RuntimeError, match="mat_mumps_icntl_14"):
+        with pytest.raises(RuntimeError, match=r"INFOG\(1\) = -9.*mat_mumps_icntl_14"):
             problem.solve()
 
 
@@ -166,16 +169,21 @@ def test_an_untrustworthy_solve_raises():
 def test_krylov_failure_raises():
     options = {"ksp_type": "cg", "pc_type": "none", "ksp_max_it": 2}
     with readme_problem(prefix="cg_", petsc_options=options) as problem:
-        with pytest.raises(RuntimeError, match="DIVERGED_ITS"):
+        with pytest.raises(RuntimeError, match=r"DIVERGED_(MAX_IT|ITS)"):
             problem.solve()
 
 
 def test_fieldsplit_from_options_on_the_nest():
-    """Named fields and rigid modes reach PCFieldSplit: GMRES, one block per field."""
+    """Named fields and rigid modes reach PCFieldSplit; it agrees with MUMPS LU.
+
+    The inf-sup model of Fig. 2 (both blocks clamped, overlapping by 0.01), so that each
+    body's K is invertible on its own: FGMRES (right preconditioning, the true residual
+    converges) with one block per field.
+    """
     options = {
-        "ksp_type": "gmres",
-        "ksp_rtol": 1e-13,
-        "ksp_max_it": 500,
+        "ksp_type": "fgmres",
+        "ksp_rtol": 1e-12,
+        "ksp_max_it": 300,
         "pc_type": "fieldsplit",
         "pc_fieldsplit_type": "additive",
         "fieldsplit_u0_ksp_type": "preonly",
@@ -185,31 +193,50 @@ def test_fieldsplit_from_options_on_the_nest():
         "fieldsplit_lambda0_ksp_type": "preonly",
         "fieldsplit_lambda0_pc_type": "none",
     }
-    with readme_problem(
-        elements=(5, 3), prefix="split_", kind="nest", petsc_options=options
-    ) as problem:
-        problem.solve()
-        assert problem.A.getType() == "nest"
-        sub = problem.solver.getPC().getFieldSplitSubKSP()
-        assert [k.getOptionsPrefix() for k in sub] == [
-            "split_fieldsplit_u0_",
-            "split_fieldsplit_u1_",
-            "split_fieldsplit_lambda0_",
-        ]
-        assert max_pressure_error(problem) < 1e-8
-        for K in problem.stiffness:
-            assert K.getNearNullSpace().getVecs()  # rigid modes for GAMG
+    scene = scenes.inf_sup_model(comm, (5, 3))
+    solutions = []
+    for kind, prefix, opts in (("nest", "split_", options), ("aij", "direct_", None)):
+        problem = block_problem(
+            scene,
+            (1, 1),
+            "upper",
+            support="clamped",
+            petsc_options_prefix=prefix,
+            petsc_options=opts,
+            search_radius=0.5,
+        )
+        problem.kind = kind
+        with problem:
+            problem.solve()
+            solutions.append(problem.multipliers[0].x.array.copy())
+            if kind == "nest":
+                assert problem.A.getType() == "nest"
+                sub = problem.solver.getPC().getFieldSplitSubKSP()
+                assert [k.getOptionsPrefix() for k in sub] == [
+                    "split_fieldsplit_u0_",
+                    "split_fieldsplit_u1_",
+                    "split_fieldsplit_lambda0_",
+                ]
+                for K in problem.stiffness:
+                    assert len(K.getNearNullSpace().getVecs()) == 3  # rigid modes, for GAMG
+    scale = np.max(np.abs(solutions[1]))
+    assert scale > 0
+    assert np.max(np.abs(solutions[0] - solutions[1])) < 1e-8 * scale
 
 
 def test_pairs_sharing_a_contactor_are_refused():
     scene = scenes.patch_test(comm, elements=(4, 3))
-    V = {n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", 1, (2,))) for n, b in scene.bodies.items()}
+    V = {
+        n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", 1, (2,))) for n, b in scene.bodies.items()
+    }
     up = contact_surface(V["upper"], scene.upper.facet_tags, scenes.BOTTOM)
     low = contact_surface(V["lower"], scene.lower.facet_tags, scenes.TOP)
     pairs = contact_pairs(up, low) + contact_pairs(up, low)
     a = [MATERIALS[n].forms(V[n])[0] for n in ("lower", "upper")]
-    L = [ufl.inner(dolfinx.fem.Constant(V[n].mesh, np.zeros(2)), ufl.TestFunction(V[n])) * ufl.dx
-         for n in ("lower", "upper")]
+    L = [
+        ufl.inner(dolfinx.fem.Constant(V[n].mesh, np.zeros(2)), ufl.TestFunction(V[n])) * ufl.dx
+        for n in ("lower", "upper")
+    ]
     with pytest.raises(ValueError, match="one multiplier field"):
         LinearContactProblem(a, L, pairs, petsc_options_prefix="share_")
 

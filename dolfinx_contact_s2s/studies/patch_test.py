@@ -23,34 +23,31 @@ import numpy.typing as npt
 import scipy.linalg
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
+from dolfinx_contact_s2s.coupling import ContactPair
 from dolfinx_contact_s2s.elasticity import Material, stress_function
-from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, TOP, Body, PatchTestScene, patch_test
-from dolfinx_contact_s2s.surface import contact_surface
+from dolfinx_contact_s2s.scenes import Body, PatchTestScene, patch_test
+from dolfinx_contact_s2s.studies.blocks import (
+    MATERIALS,
+    NAMES,
+    block_pairs,
+    block_problem,
+    block_spaces,
+)
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.stability import Solvability
 
 __all__ = [
-    "DISCRETIZATIONS",
-    "MATERIALS",
-    "PASS_TOLERANCE",
     "PatchTestCase",
     "PatchTestErrors",
     "PatchTestSolution",
-    "case_record",
     "contact_pressure",
     "errors",
     "exact_displacement",
     "force_transfer",
-    "paper_verdict",
     "solve_patch_test",
     "stress_component_errors",
-    "study_cases",
 ]
-
-#: Materials of the lower and upper block; they differ on purpose.
-MATERIALS = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=3.0, nu=0.2)}
 
 
 @dataclass(frozen=True)
@@ -109,6 +106,8 @@ class PatchTestSolution:
         displacement: Displacement of each body (``None`` if unsolvable).
         stress: Stress of each body (discontinuous Lagrange tensor).
         pressures: Multiplier of each pair.
+        nodal_pressure: Contact force over consistent load at each contact node.
+        inactive: Multipliers of each pair that carry no constraint (global dofs).
     """
 
     case: PatchTestCase
@@ -119,6 +118,7 @@ class PatchTestSolution:
     stress: dict[str, dolfinx.fem.Function] | None = None
     pressures: list[dolfinx.fem.Function] | None = None
     nodal_pressure: dict[str, npt.NDArray[np.floating]] | None = None
+    inactive: list[npt.NDArray[np.int64]] | None = None
 
     @property
     def pair(self) -> ContactPair:
@@ -130,35 +130,6 @@ class PatchTestSolution:
         """The multiplier of the (first) pair."""
         assert self.pressures is not None
         return self.pressures[0]
-
-
-def _body_forms(
-    body: Body, degree: int, material: Material, traction: float
-) -> tuple[dolfinx.fem.FunctionSpace, ufl.Form, ufl.Form, list[dolfinx.fem.DirichletBC]]:
-    mesh = body.mesh
-    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (mesh.geometry.dim,)))
-    a, _, v = material.forms(V)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=body.facet_tags)
-    t = dolfinx.fem.Constant(mesh, np.array([0.0, -traction], dtype=dolfinx.default_scalar_type))
-    L = ufl.inner(t, v) * ds(TOP)
-    fdim = mesh.topology.dim - 1
-    zero = dolfinx.default_scalar_type(0.0)
-    bcs = [
-        dolfinx.fem.dirichletbc(
-            zero,
-            dolfinx.fem.locate_dofs_topological(V.sub(0), fdim, body.facet_tags.find(LEFT)),
-            V.sub(0),
-        )
-    ]
-    if body.name == "lower":
-        bcs.append(
-            dolfinx.fem.dirichletbc(
-                zero,
-                dolfinx.fem.locate_dofs_topological(V.sub(1), fdim, body.facet_tags.find(BOTTOM)),
-                V.sub(1),
-            )
-        )
-    return V, a, L, bcs
 
 
 def exact_displacement(case: PatchTestCase, height: float, body: str):
@@ -190,49 +161,44 @@ def solve_patch_test(
     petsc_options_prefix: str = "patch_",
     petsc_options: dict | None = None,
 ) -> PatchTestSolution:
-    """Build the scene of ``case`` and solve the contact problem (Eq. 18)."""
-    from dolfinx_contact_s2s.petsc import ContactProblem
+    """Build the scene of ``case`` and solve the contact problem (Eq. 18).
+
+    A case whose constraints are rank deficient (dense SVD, Eq. 35) is reported, not
+    solved.
+    """
     from dolfinx_contact_s2s.stability import solvability
 
-    if case.contactor not in ("upper", "lower"):
-        raise ValueError("contactor must be 'upper' or 'lower'")
     scene = patch_test(
         comm, case.elements, cell=case.cell, geometry_degree=case.geometry_degree, gap=case.gap
     )
-    names = ("lower", "upper")
-    spaces, a, L, bcs = {}, [], [], []
-    for name, degree in zip(names, case.degrees, strict=True):
-        body = scene.bodies[name]
-        traction = case.pressure if name == "upper" else 0.0
-        V, ai, Li, bci = _body_forms(body, degree, MATERIALS[name], traction)
-        spaces[name] = V
-        a.append(ai)
-        L.append(Li)
-        bcs.extend(bci)
-    target = "lower" if case.contactor == "upper" else "upper"
-    surfaces = {
-        n: contact_surface(spaces[n], scene.bodies[n].facet_tags, scene.bodies[n].contact)
-        for n in names
-    }
-    pairs = contact_pairs(surfaces[case.contactor], surfaces[target], **case.pair_options())
-    problem = ContactProblem(
-        a, L, pairs, bcs, petsc_options_prefix=petsc_options_prefix, petsc_options=petsc_options
+    problem = block_problem(
+        scene,
+        case.degrees,
+        case.contactor,
+        support="rollers",
+        pressure=case.pressure,
+        petsc_options_prefix=petsc_options_prefix,
+        petsc_options=petsc_options,
+        **case.pair_options(),
     )
-    check = solvability(problem)
-    if not check.solvable:
-        problem.destroy()
-        return PatchTestSolution(case, scene, pairs, check)
-    u, lam = problem.solve()
-    forces = dict(zip(names, problem.contact_forces(), strict=True))
-    problem.destroy()
-    nodal = {n: _nodal_pressure(scene.bodies[n], forces[n]) for n in names}
-    displacement = dict(zip(names, u, strict=True))
+    with problem:
+        problem.assemble(check=False)
+        check = solvability(problem)
+        inactive = [op.inactive.copy() for op in problem.operators]
+        if not check.solvable:
+            return PatchTestSolution(case, scene, problem.pairs, check, inactive=inactive)
+        u, lam = problem.solve()
+        forces = dict(zip(NAMES, problem.contact_forces(), strict=True))
+    nodal = {n: _nodal_pressure(scene.bodies[n], forces[n]) for n in NAMES}
+    displacement = dict(zip(NAMES, u, strict=True))
     for name, f in displacement.items():
         f.name = f"u_{name}"
-    stress = {n: stress_function(displacement[n], MATERIALS[n]) for n in names}
+    stress = {n: stress_function(displacement[n], MATERIALS[n]) for n in NAMES}
     for f in lam:
         f.name = "contact_pressure"
-    return PatchTestSolution(case, scene, pairs, check, displacement, stress, lam, nodal)
+    return PatchTestSolution(
+        case, scene, problem.pairs, check, displacement, stress, lam, nodal, inactive
+    )
 
 
 def _nodal_pressure(body: Body, force: dolfinx.fem.Function) -> npt.NDArray[np.floating]:
@@ -254,7 +220,9 @@ def _nodal_pressure(body: Body, force: dolfinx.fem.Function) -> npt.NDArray[np.f
     return f[on] / c[on]
 
 
-def contact_pressure(pair: ContactPair, multiplier: dolfinx.fem.Function) -> npt.NDArray:
+def contact_pressure(
+    pair: ContactPair, multiplier: dolfinx.fem.Function, inactive: npt.NDArray[np.int64]
+) -> npt.NDArray:
     r"""Owned, active pressure values of a multiplier; nodal forces become pressures.
 
     With :math:`w^i = 1` in Eq. (39) the multiplier is the nodal force; dividing by the
@@ -263,8 +231,8 @@ def contact_pressure(pair: ContactPair, multiplier: dolfinx.fem.Function) -> npt
     imap = multiplier.function_space.dofmap.index_map
     n = imap.size_local
     values = multiplier.x.array[:n]
-    active = ~np.isin(np.arange(*imap.local_range), pair.inactive)
-    if pair.method in ("node-to-segment", "node-to-node") and pair.weight == "unit":
+    active = ~np.isin(np.arange(*imap.local_range), inactive)
+    if pair.nodal and pair.weight == "unit":
         Q = multiplier.function_space
         length = dolfinx.fem.assemble_vector(
             dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
@@ -306,151 +274,18 @@ def errors(solution: PatchTestSolution) -> PatchTestErrors:
         return comm.allreduce(local, op=MPI.MAX)
 
     e_f = max(worst(v) for v in solution.nodal_pressure.values())
+    assert solution.inactive is not None
     e_p = max(
-        worst(contact_pressure(pair, lam))
-        for pair, lam in zip(solution.pairs, solution.pressures, strict=True)
+        worst(contact_pressure(pair, lam, inactive))
+        for pair, lam, inactive in zip(
+            solution.pairs, solution.pressures, solution.inactive, strict=True
+        )
     )
     if len(solution.pairs) > 1:
         e_p = e_f
     exact = np.array([0.0, 0.0, 0.0, -p])
     e_s = max(worst(s.x.array.reshape(-1, 4), exact) for s in solution.stress.values())
     return PatchTestErrors(e_p, e_s, e_f)
-
-
-#: The discretizations of the study: a label and the :class:`PatchTestCase` options.
-DISCRETIZATIONS: dict[str, dict] = {
-    "S2S composite Gauss": {"quadrature": "composite-gauss"},
-    "S2S composite Newton-Cotes": {"quadrature": "composite-newton-cotes"},
-    # Fig. 15(a): second-order Gauss; its Newton-Cotes sibling is the trapezoidal rule.
-    "S2S Gauss (Fig. 15a)": {"quadrature": "gauss", "quadrature_points": 2},
-    "S2S Newton-Cotes (Fig. 15a)": {"quadrature": "newton-cotes", "quadrature_points": 2},
-    "NTS, w = 1": {"method": "node-to-segment", "weight": "unit"},
-    "NTS, tributary w": {"method": "node-to-segment", "weight": "tributary"},
-    "NTS at Gauss points": {"method": "node-to-segment-gauss"},
-    "two-pass NTS": {"method": "two-pass node-to-segment"},
-    "intermediate surface": {"method": "intermediate-surface"},
-    "node-to-node": {"method": "node-to-node"},
-}
-
-#: Multiplier spaces of Eq. (16) tried with composite S2S besides the default
-#: :math:`\mathcal M^1_{h,k}`, for contactor degree ``k``.
-EXTRA_MULTIPLIERS: dict[int, list[tuple[str, int]]] = {
-    1: [("DG", 0), ("DG", 1)],
-    2: [("DG", 0), ("Lagrange", 1), ("DG", 1), ("DG", 2)],
-}
-
-#: Degrees (lower, upper): linear on linear, quadratic on quadratic, linear on quadratic
-#: (Fig. 6(b)-(d)).
-DEGREES = ((1, 1), (2, 2), (2, 1))
-
-#: Elements along the contact (lower, upper): non-nested, nested and matching.
-RATIOS = ((10, 7), (7, 10), (10, 5), (3, 8), (10, 10))
-
-
-def nested(elements: tuple[int, int]) -> bool:
-    """Whether the nodes of one surface are among those of the other (e.g. 10/5, 10/10)."""
-    a, b = elements
-    return a % b == 0 or b % a == 0
-
-
-def paper_verdict(label: str, case: PatchTestCase) -> str:
-    """What the paper says of a case: ``"pass"``, ``"fail"`` or ``"either"``.
-
-    Composite S2S passes whatever the meshes with the stable multiplier spaces of
-    Tables 1-2 (section 5). Node-to-segment
-    (section 4.2) and non-composite S2S (Fig. 15(a)) fail on meshes whose nodes do not
-    nest. Two-pass node-to-segment passes for linear elements and fails for quadratic
-    ones (section 4.3, Fig. 12); so does the intermediate surface for linear ones (4.4).
-    Node-to-node passes on matching meshes (section 4.1).
-    On nested meshes any method may pass by coincidence (cf. Fig. 11).
-    """
-    matching = case.elements[0] == case.elements[1]
-    if label.startswith("S2S composite"):
-        k = case.degrees[0] if case.contactor == "lower" else case.degrees[1]
-        family, degree = case.multiplier or ("Lagrange", k)
-        continuous = family == "Lagrange"
-        # Tables 1-2: the stable multiplier spaces.
-        stable = (continuous and degree >= 1) or (k == 2 and degree == 0)
-        return "pass" if stable else "either"
-    if label == "node-to-node":
-        return "pass" if matching else "either"
-    if label == "intermediate surface":
-        return "pass"
-    if label == "two-pass NTS":
-        if case.degrees == (1, 1):
-            return "pass"
-        if case.degrees == (2, 2) and not nested(case.elements):
-            return "fail"
-        return "either"
-    return "either" if nested(case.elements) else "fail"
-
-
-def study_cases(
-    cells: tuple[str, ...] = ("triangle", "quadrilateral"),
-    ratios: tuple[tuple[int, int], ...] = RATIOS,
-) -> list[tuple[str, PatchTestCase]]:
-    """The patch-test matrix: every discretization, multiplier, mesh and contactor."""
-    out = []
-    for degrees in DEGREES:
-        for cell in cells:
-            for elements in ratios:
-                for contactor in ("upper", "lower"):
-                    base = {"degrees": degrees, "cell": cell, "elements": elements}
-                    base["contactor"] = contactor
-                    k = degrees[0] if contactor == "lower" else degrees[1]
-                    for label, options in DISCRETIZATIONS.items():
-                        if label == "node-to-node" and (
-                            elements[0] != elements[1] or degrees[0] != degrees[1]
-                        ):
-                            continue
-                        if label == "intermediate surface" and degrees != (1, 1):
-                            continue
-                        out.append((label, PatchTestCase(**base, **options)))
-                    for multiplier in EXTRA_MULTIPLIERS[k]:
-                        out.append(
-                            ("S2S composite Gauss", PatchTestCase(**base, multiplier=multiplier))
-                        )
-    return out
-
-
-def case_record(label: str, case: PatchTestCase, solution: PatchTestSolution) -> dict:
-    """JSON record of a solved (or unsolvable) case, with the paper's verdict beside it."""
-    rec = case.record()
-    rec["discretization"] = label
-    rec["method"] = label
-    rec["multiplier"] = solution.pair.multiplier_label
-    rec["paper"] = paper_verdict(label, case)
-    rec["ranks"] = solution.pair.Q.mesh.comm.size
-    check = solution.solvability
-    rec.update(constraints=check.constraints, redundant=check.redundant, solvable=check.solvable)
-    rec["condition"] = check.condition if np.isfinite(check.condition) else None
-    if check.solvable:
-        err = errors(solution)
-        rec.update(
-            pressure_error=err.pressure,
-            stress_error=err.stress,
-            force_error=err.force,
-            # The patch test: a constant stress state, and the constant traction
-            # transmitted exactly (section 3.2). Whether the multipliers themselves
-            # are exact is a matter of stability, reported separately.
-            passed=bool(max(err.stress, err.force) <= PASS_TOLERANCE),
-            multiplier_exact=bool(err.pressure <= PASS_TOLERANCE),
-        )
-    else:
-        rec.update(
-            pressure_error=None,
-            stress_error=None,
-            force_error=None,
-            passed=False,
-            multiplier_exact=False,
-        )
-    outcome = "pass" if rec["passed"] else "fail"
-    rec["agrees"] = rec["paper"] in ("either", outcome)
-    return rec
-
-
-#: Largest pressure and stress error of a passing case.
-PASS_TOLERANCE = 1e-10
 
 
 def _gather_owned(comm: MPI.Comm, start: int, values: npt.NDArray, size: int) -> npt.NDArray:
@@ -479,15 +314,9 @@ def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
     comm = MPI.COMM_WORLD
     scene = patch_test(comm, case.elements, cell=case.cell)
     target_name = "lower" if case.contactor == "upper" else "upper"
-    spaces = {
-        n: dolfinx.fem.functionspace(scene.bodies[n].mesh, ("Lagrange", k, (2,)))
-        for n, k in zip(("lower", "upper"), case.degrees, strict=True)
-    }
-    surfaces = {
-        n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()
-    }
-    pair = contact_pairs(surfaces[case.contactor], surfaces[target_name], **case.pair_options())
-    op = assemble_coupling(pair[0])
+    spaces = block_spaces(scene, case.degrees)
+    (pair,) = block_pairs(scene, spaces, case.contactor, **case.pair_options())
+    op = assemble_coupling(pair)
     Bc = gather_dense(op.block(spaces[case.contactor]))
     Bt = gather_dense(op.block(spaces[target_name]))
     op.destroy()
