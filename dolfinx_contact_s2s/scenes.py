@@ -23,7 +23,14 @@ import dolfinx
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 
-__all__ = ["Body", "PatchTestScene", "inf_sup_model", "model_to_mesh", "patch_test"]
+__all__ = [
+    "Body",
+    "PatchTestScene",
+    "gmsh_session",
+    "inf_sup_model",
+    "model_to_mesh",
+    "patch_test",
+]
 
 
 def model_to_mesh(
@@ -90,7 +97,8 @@ class PatchTestScene:
 
 
 @contextlib.contextmanager
-def _gmsh_session() -> Iterator[typing.Any]:
+def gmsh_session() -> Iterator[typing.Any]:
+    """A Gmsh session: initialized here unless the caller already did, quiet."""
     import gmsh
 
     started = not gmsh.isInitialized()
@@ -200,7 +208,7 @@ def patch_test(
         layers = tuple(max(2, round(n * height / width)) for n in elements)  # type: ignore[assignment]
     tags = {"bottom": BOTTOM, "right": RIGHT, "top": TOP, "left": LEFT}
     out = Path(msh_dir) if msh_dir is not None else None
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         lower = _block(
             gmsh,
             comm,

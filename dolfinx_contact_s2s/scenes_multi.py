@@ -42,7 +42,7 @@ import dolfinx
 import numpy as np
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
-from dolfinx_contact_s2s.scenes import _gmsh_session
+from dolfinx_contact_s2s.scenes import gmsh_session
 
 __all__ = [
     "ARRANGEMENTS",
@@ -253,7 +253,7 @@ def _mesh_blocks(
     """Mesh the blocks on rank 0, one Gmsh model per mesh name, and distribute them."""
     names = list(dict.fromkeys(b.mesh for b in blocks))
     parts = {}
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         for name in names:
             mine = [b for b in blocks if b.mesh == name]
             gmsh.model.add(name)
