@@ -235,22 +235,6 @@ class ContactPair:
         return self.discretization.nodal
 
     @property
-    def target(self) -> ContactSurface:
-        """The target of a pair with a single target (transitional; use :attr:`targets`)."""
-        if len(self.targets) != 1:
-            raise ValueError("this pair has several targets: use pair.targets")
-        return self.targets[0]
-
-    @property
-    def inactive(self) -> npt.NDArray[np.int64]:
-        """Transitional name of :attr:`duplicates`.
-
-        The multipliers set to zero also include the uncovered ones:
-        :attr:`dolfinx_contact_s2s.petsc.CouplingOperator.inactive`.
-        """
-        return self.duplicates
-
-    @property
     def multiplier_label(self) -> str:
         r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
         return self.discretization.label(self.multiplier_continuous, self.multiplier_degree)
