@@ -414,9 +414,13 @@ class LinearContactProblem:
             if report.active <= 2000:
                 rows = checks.redundant_multipliers(blocks, block_masks, op.inactive)
                 x = _dof_coordinates(pair.Q)
-                named = " Dependent multipliers, at: " + "; ".join(
-                    ", ".join(f"({x[k, 0]:.4g}, {x[k, 1]:.4g})" for k in group[:4])
-                    for group in rows[:5]
+                named = (
+                    " Dependent multipliers, at: "
+                    + "; ".join(
+                        ", ".join(f"({x[k, 0]:.4g}, {x[k, 1]:.4g})" for k in group[:4])
+                        for group in rows[:5]
+                    )
+                    + "."
                 )
             raise ValueError(
                 f"pair {j} ({pair.method}, contactor tag {pair.contactor.tag}) has "
