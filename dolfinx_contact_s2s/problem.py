@@ -186,6 +186,15 @@ class LinearContactProblem:
         ]
         self.stiffness = [dolfinx.fem.petsc.create_matrix(ai) for ai in self.a]
         self._loads = [_create_vector(V) for V in self.spaces]
+        # The bodies (connected components) and their rigid modes depend on the meshes
+        # only: found once, used by the support check and given to GAMG.
+        self._labels = [checks.connected_components(V.mesh)[0] for V in self.spaces]
+        self.near_nullspaces = [
+            checks.near_nullspace(V, labels)
+            for V, labels in zip(self.spaces, self._labels, strict=True)
+        ]
+        for K, ns in zip(self.stiffness, self.near_nullspaces, strict=True):
+            K.setNearNullSpace(ns)
         self.operators: list[CouplingOperator] = []
         self.constraints: list[list[tuple[int, PETSc.Mat]]] = []
         self.A: PETSc.Mat | None = None
@@ -363,13 +372,9 @@ class LinearContactProblem:
             sub = self.b.getSubVector(is_)
             sub.array[:] = v.array_r[: sub.getLocalSize()]
             self.b.restoreSubVector(is_, sub)
-        for i, is_ in enumerate(index_sets[:nb]):
-            # Each body's rigid modes for GAMG: PCFieldSplit reads a near-null space
-            # composed on the field's index set.
-            ns = checks.near_nullspace(self.spaces[i])
+        for is_, ns in zip(index_sets[:nb], self.near_nullspaces, strict=True):
+            # PCFieldSplit reads a near-null space composed on the field's index set.
             is_.compose("nearnullspace", ns)
-            self.stiffness[i].setNearNullSpace(ns)
-            self._owned.append(ns)
         self._configure_solver()
 
     @staticmethod
@@ -394,6 +399,7 @@ class LinearContactProblem:
             masks,
             constraints,
             [op.inactive for op in self.operators],
+            labels=self._labels,
         )
         if motions:
             lines = "\n".join(f"  - {m.describe()}" for m in motions)
@@ -515,7 +521,7 @@ class LinearContactProblem:
     def destroy(self) -> None:
         """Destroy the PETSc objects and remove the problem's options from the database."""
         self._destroy_assembly()
-        for obj in [self.solver, *self.stiffness, *self._loads]:
+        for obj in [self.solver, *self.stiffness, *self._loads, *self.near_nullspaces]:
             obj.destroy()
         self.options.clear()
 
