@@ -201,11 +201,20 @@ class LinearContactProblem:
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
         self.fields: dict[str, PETSc.IS] = {}
+        # PETSc objects of one assembly (kept across the systems built from it), and of
+        # the current saddle-point system.
         self._owned: list[typing.Any] = []
+        self._system: list[typing.Any] = []
+        self._masks: list[PETSc.Vec] = []
+        self._values: list[PETSc.Vec] = []
 
-        self.options = PETScOptions(petsc_options_prefix, petsc_options, DEFAULT_OPTIONS)
+        self.options = PETScOptions(petsc_options_prefix, petsc_options, self._default_options())
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
+
+    def _default_options(self) -> dict[str, typing.Any]:
+        """Solver defaults of this problem; each yields to ``petsc_options`` and the database."""
+        return dict(DEFAULT_OPTIONS)
 
     # --- set-up checks --------------------------------------------------------------
 
@@ -257,22 +266,29 @@ class LinearContactProblem:
             bc.set(values.x.array)
         return _owned_vec(self.spaces[i], values.x.array)
 
-    def _active(self, op: CouplingOperator) -> PETSc.Vec:
-        """1 for the constrained multipliers of a pair, 0 for the inactive ones."""
+    @staticmethod
+    def _active(op: CouplingOperator, inactive: npt.NDArray[np.int64]) -> PETSc.Vec:
+        """1 for the constrained multipliers of a pair, 0 at the global dofs ``inactive``."""
         active = op.G.duplicate()
         active.set(1.0)
         start, end = active.getOwnershipRange()
-        mine = op.inactive[(op.inactive >= start) & (op.inactive < end)]
+        mine = inactive[(inactive >= start) & (inactive < end)]
         active.array[mine - start] = 0.0
         return active
 
+    def _destroy_system(self) -> None:
+        for obj in self._system:
+            obj.destroy()
+        self._system, self.constraints, self.fields = [], [], {}
+        self.A = self.b = self.x = None
+
     def _destroy_assembly(self) -> None:
+        self._destroy_system()
         for obj in self._owned:
             obj.destroy()
         for op in self.operators:
             op.destroy()
-        self._owned, self.operators, self.constraints, self.fields = [], [], [], {}
-        self.A = self.b = self.x = None
+        self._owned, self.operators, self._masks, self._values = [], [], [], []
 
     def assemble(self, check: bool = True) -> None:
         r"""Assemble :math:`\mathbf K`, :math:`\mathbf F`, the coupling and the saddle point.
@@ -287,7 +303,6 @@ class LinearContactProblem:
                 constraints are redundant.
         """
         self._destroy_assembly()
-        nb, npairs = len(self.spaces), len(self.pairs)
         for K, F, ai, Li, bcs in zip(
             self.stiffness, self._loads, self.a, self.L, self.bcs_by_space, strict=True
         ):
@@ -300,37 +315,65 @@ class LinearContactProblem:
             dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bcs])
             F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
             dolfinx.fem.petsc.set_bc(F, bcs)
+        self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
+        self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
+        self._owned.extend(self._masks + self._values)
+        self.operators = [assemble_coupling(pair) for pair in self.pairs]
+        for j, op in enumerate(self.operators):
+            if op.uncovered.size:
+                logger.info(
+                    "pair %d: %d multipliers face no target and are set to zero",
+                    j,
+                    op.uncovered.size,
+                )
+        if check:
+            self._check_support(self._masks)
+            self._check_redundancy(self._masks)
+        self._build_system()
 
-        masks = [self.dirichlet_mask(i) for i in range(nb)]
-        values = [self.dirichlet_values(i) for i in range(nb)]
-        self._owned.extend(masks + values)
+    def _build_system(
+        self, released: Sequence[npt.NDArray[np.int64]] | None = None, load: float = 1.0
+    ) -> None:
+        r"""The saddle point of Eq. (18) from the assembled blocks.
+
+        Args:
+            released: Per pair, global multipliers set to zero besides the pair's
+                inactive ones (the inactive set of a unilateral contact iteration).
+            load: Factor on :math:`\mathbf F` and the Dirichlet values.
+        """
+        self._destroy_system()
+        nb, npairs = len(self.spaces), len(self.pairs)
         blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
         for i, K in enumerate(self.stiffness):
             blocks[i][i] = K
-        rhs: list[PETSc.Vec] = list(self._loads)
-        for j, pair in enumerate(self.pairs):
-            op = assemble_coupling(pair)
-            self.operators.append(op)
-            active = self._active(op)
+        rhs: list[PETSc.Vec] = []
+        for F in self._loads:
+            f = F.copy()
+            f.scale(load)
+            rhs.append(f)
+            self._system.append(f)
+        for j, op in enumerate(self.operators):
+            off = op.inactive if released is None else np.union1d(op.inactive, released[j])
+            active = self._active(op, off)
             G = op.G.copy()
             masked = []
             for V, B in op.blocks:
                 i = self.space_index(V)
-                # -B U = G with U = U_free + U_D  =>  -B U_free = G + B U_D.
-                B.multAdd(values[i], G, G)
+                # -B U = G with U = U_free + t U_D  =>  -B U_free = G + t B U_D.
+                self._add_scaled(B, self._values[i], load, G)
                 Bm = B.copy()
-                Bm.diagonalScale(active, masks[i])
+                Bm.diagonalScale(active, self._masks[i])
                 masked.append((i, Bm))
                 minus = Bm.copy()
                 minus.scale(-1.0)
                 minus_t = minus.transpose(PETSc.Mat())
                 blocks[nb + j][i] = minus
                 blocks[i][nb + j] = minus_t
-                self._owned.extend([Bm, minus, minus_t])
+                self._system.extend([Bm, minus, minus_t])
             G.pointwiseMult(G, active)
             rhs.append(G)
             self.constraints.append(masked)
-            if op.inactive.size:
+            if off.size:
                 # Inactive multipliers: the row reads lambda_k = 0.
                 inactive = active.duplicate()
                 inactive.set(1.0)
@@ -341,22 +384,12 @@ class LinearContactProblem:
                 D.setDiagonal(inactive)
                 D.assemble()
                 blocks[nb + j][nb + j] = D
-                self._owned.extend([D, inactive])
-            self._owned.extend([G, active])
-            if op.uncovered.size:
-                logger.info(
-                    "pair %d: %d multipliers face no target and are set to zero",
-                    j,
-                    op.uncovered.size,
-                )
-
-        if check:
-            self._check_support(masks)
-            self._check_redundancy(masks)
+                self._system.extend([D, inactive])
+            self._system.extend([G, active])
 
         nest = PETSc.Mat().createNest(blocks, comm=self.comm)
         nest.assemble()
-        self._owned.append(nest)
+        self._system.append(nest)
         index_sets = nest.getNestISs()[0]
         names = [f"u{i}" for i in range(nb)] + [f"lambda{j}" for j in range(npairs)]
         self.fields = dict(zip(names, index_sets, strict=True))
@@ -364,10 +397,10 @@ class LinearContactProblem:
             self.A = nest
         else:
             self.A = nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
-            self._owned.append(self.A)
+            self._system.append(self.A)
         self.b = self.A.createVecLeft() if self.kind == "aij" else self._plain_vector(nest)
         self.x = self.b.duplicate()
-        self._owned.extend([self.b, self.x])
+        self._system.extend([self.b, self.x])
         for is_, v in zip(index_sets, rhs, strict=True):
             sub = self.b.getSubVector(is_)
             sub.array[:] = v.array_r[: sub.getLocalSize()]
@@ -376,6 +409,14 @@ class LinearContactProblem:
             # PCFieldSplit reads a near-null space composed on the field's index set.
             is_.compose("nearnullspace", ns)
         self._configure_solver()
+
+    @staticmethod
+    def _add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
+        """``y += t B u``."""
+        w = B.createVecLeft()
+        B.mult(u, w)
+        y.axpy(t, w)
+        w.destroy()
 
     @staticmethod
     def _plain_vector(nest: PETSc.Mat) -> PETSc.Vec:
@@ -450,6 +491,11 @@ class LinearContactProblem:
             RuntimeError: On every rank, if the solver fails or its residual is too large.
         """
         self.assemble()
+        self._solve_system()
+        return self.u, self.multipliers
+
+    def _solve_system(self) -> None:
+        """Solve the current saddle point, check the solve and scatter the solution."""
         assert self.A is not None and self.b is not None and self.x is not None
         self.solver.solve(self.b, self.x)
         for _ in range(self.workspace_retries):
@@ -475,7 +521,6 @@ class LinearContactProblem:
             f.x.array[: sub.getLocalSize()] = sub.array_r
             self.x.restoreSubVector(is_, sub)
             f.x.scatter_forward()
-        return self.u, self.multipliers
 
     def residual(self) -> float:
         r"""Relative residual :math:`\|\mathbf b - \mathbf A \mathbf x\|_2 / \|\mathbf b\|_2`."""
