@@ -373,7 +373,8 @@ class LinearContactProblem:
             G.pointwiseMult(G, active)
             rhs.append(G)
             self.constraints.append(masked)
-            if off.size:
+            # ``released`` holds each process's own multipliers: decide on all together.
+            if self.comm.allreduce(off.size):
                 # Inactive multipliers: the row reads lambda_k = 0.
                 inactive = active.duplicate()
                 inactive.set(1.0)

@@ -75,13 +75,19 @@ logger = logging.getLogger(__name__)
 #: The solution algorithms (see the module docstring).
 ALGORITHMS = ("active-set", "snes-vi", "penalty", "augmented-lagrangian")
 
-#: First active set of the first load step: every multiplier (the tied problem of
-#: Eq. 18, always supported when the model passed its checks), or the multipliers
-#: whose initial weighted gap is negative (a penetration at zero displacement).
-STARTS = ("tied", "gap")
+#: First active set of the first load step: the multipliers of the nearest points
+#: (smallest initial gap, and every penetration), every multiplier (the tied problem of
+#: Eq. 18, always supported when the model passed its checks), or the penetrating ones
+#: (negative weighted gap at zero displacement).
+STARTS = ("nearest", "tied", "gap")
 
 #: Default factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`, by algorithm.
-DEFAULT_PENALTY = {"active-set": 1.0, "snes-vi": 1.0, "penalty": 1e3, "augmented-lagrangian": 1.0}
+DEFAULT_PENALTY = {
+    "active-set": 1.0,
+    "snes-vi": 1.0,
+    "penalty": 100.0,
+    "augmented-lagrangian": 10.0,
+}
 
 
 @dataclass(frozen=True)
@@ -191,7 +197,7 @@ class UnilateralContactProblem(LinearContactProblem):
         petsc_options_prefix: str,
         petsc_options: dict[str, typing.Any] | None = None,
         algorithm: str = "active-set",
-        start: str = "tied",
+        start: str = "nearest",
         penalty: float | None = None,
         max_iterations: int = 50,
         tolerance: float = 1e-10,
@@ -318,8 +324,8 @@ class UnilateralContactProblem(LinearContactProblem):
         super().assemble(check)
         for c in self.scales:
             c.destroy()
-        E = self._stiffness_scale()
-        self.scales = [self._scale(j, E) for j in range(len(self.pairs))]
+        self._stiffness = self._stiffness_scale()
+        self.scales = [self._scale(j, self._stiffness) for j in range(len(self.pairs))]
 
     # --- the pieces of every algorithm ------------------------------------------------
 
@@ -422,10 +428,20 @@ class UnilateralContactProblem(LinearContactProblem):
         )
 
     def _first_active(self, load: float) -> list[npt.NDArray[np.bool_]]:
+        pinned = [self._pinned(j) for j in range(len(self.pairs))]
         if self.start == "tied":
-            return [~self._pinned(j) for j in range(len(self.pairs))]
-        gaps = self._initial_gaps(load)
-        return [(g < 0) & ~self._pinned(j) for j, g in enumerate(gaps)]
+            return [~p for p in pinned]
+        # c g~ at zero displacement: a pressure, comparable over all multipliers.
+        cg = [c.array_r * g for c, g in zip(self.scales, self._initial_gaps(load), strict=True)]
+        if self.start == "gap":
+            return [(v < 0) & ~p for v, p in zip(cg, pinned, strict=True)]
+        # "nearest": the penetrating multipliers and those within 1e-8 h of the smallest gap.
+        local = min(
+            (float(np.min(v[~p], initial=np.inf)) for v, p in zip(cg, pinned)), default=np.inf
+        )
+        smallest = self.comm.allreduce(local, op=MPI.MIN)
+        near = smallest + 1e-8 * self.penalty * self._stiffness
+        return [((v < 0) | (v <= near)) & ~p for v, p in zip(cg, pinned, strict=True)]
 
     def _released(self, active: list[npt.NDArray[np.bool_]]) -> list[npt.NDArray[np.int64]]:
         return [
@@ -435,6 +451,18 @@ class UnilateralContactProblem(LinearContactProblem):
 
     def _fail(self, message: str) -> typing.NoReturn:
         raise ContactConvergenceError(message, self.history)
+
+    def _solve_linear(self, step: LoadStep) -> None:
+        """Solve the current saddle point; a failure becomes a contact error with history."""
+        try:
+            self._solve_system()
+        except RuntimeError as error:
+            self._fail(
+                f"solve {len(step.iterations) + 1} at load {step.load:g} failed: {error}\n"
+                "An active set that leaves a body held by contact alone makes the system "
+                "singular: start from start='tied', prescribe a displacement, or take "
+                "smaller load steps."
+            )
 
     # --- solve ------------------------------------------------------------------------
 
@@ -495,7 +523,7 @@ class UnilateralContactProblem(LinearContactProblem):
         """Semismooth Newton (primal-dual active set) iterations of one load step."""
         for _ in range(self.max_iterations):
             self._build_system(self._released(active), load=step.load)
-            self._solve_system()
+            self._solve_linear(step)
             z, residual = self._complementarity(self._lambdas(), self._weighted_gaps(step.load))
             new, entered, left = self._update(active, z)
             self._record(step, active, entered, left, residual)
@@ -524,7 +552,7 @@ class UnilateralContactProblem(LinearContactProblem):
         :math:`\lambda \ge 0`); convergence is tested as for ``"active-set"``.
         """
         self._build_system(self._released(active), load=step.load)
-        self._solve_system()
+        self._solve_linear(step)
         assert self.x is not None
         x = self.x.copy()
         self._build_system(None, load=step.load)
@@ -551,7 +579,7 @@ class UnilateralContactProblem(LinearContactProblem):
             np.concatenate([is_.getIndices() for is_ in list(self.fields.values())[:nb]]),
             comm=self.comm,
         )
-        load_norm = max(_norm(self.comm, _part(Sb, u_rows)), np.finfo(float).tiny)
+        jx, xu = self.b.duplicate(), self.b.duplicate()
 
         def function(snes: PETSc.SNES | None, x: PETSc.Vec, f: PETSc.Vec) -> None:
             J.mult(x, f)
@@ -575,7 +603,19 @@ class UnilateralContactProblem(LinearContactProblem):
             )
             self._record(step, new, entered, left, residual)
             state[:] = new
-            equilibrium = _norm(self.comm, _part(work, u_rows)) / load_norm
+            # Equilibrium relative to the larger of the loads and the elastic forces K U.
+            x.copy(xu)
+            for is_ in lambda_sets:
+                sub = xu.getSubVector(is_)
+                sub.set(0.0)
+                xu.restoreSubVector(is_, sub)
+            J.mult(xu, jx)
+            scale = max(
+                _norm(self.comm, _part(Sb, u_rows)),
+                _norm(self.comm, _part(jx, u_rows)),
+                np.finfo(float).tiny,
+            )
+            equilibrium = _norm(self.comm, _part(work, u_rows)) / scale
             if residual <= self.tolerance and equilibrium <= self.residual_tolerance:
                 return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
             if it >= snes.getTolerances()[3]:
@@ -608,7 +648,7 @@ class UnilateralContactProblem(LinearContactProblem):
             return state
         finally:
             snes.destroy()
-            for obj in (x, S, lower, upper, J, Sb, f, work, u_rows):
+            for obj in (x, S, lower, upper, J, Sb, f, work, jx, xu, u_rows):
                 obj.destroy()
 
     def _scatter_solution(self) -> None:
