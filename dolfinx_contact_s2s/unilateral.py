@@ -32,8 +32,9 @@ The parameter :math:`c_j = \varepsilon_j / m_j` turns a weighted gap into a pres
 :math:`m_j` is the row sum of the multiplier's mass (Eq. 29: the integral of
 :math:`\mu_j`, or the tributary length of a node) and :math:`\varepsilon_j = \kappa
 \bar E / h_j` a stiffness per length, with :math:`\bar E` the median diagonal entry of
-the free stiffness, :math:`h_j` the contactor's facet size around :math:`j` and
-:math:`\kappa` the ``penalty`` factor.
+the free stiffness, :math:`h_j = (\int \mu_j)^2 / \int \mu_j^2` (proportional to the
+contactor's facet size around :math:`j`: :math:`1.5 h` for P1) and :math:`\kappa` the
+``penalty`` factor.
 
 This module needs petsc4py and must be imported explicitly.
 """
@@ -295,19 +296,22 @@ class UnilateralContactProblem(LinearContactProblem):
         pair, op = self.pairs[j], self.operators[j]
         Q = pair.Q
         mu = ufl.TestFunction(Q)
-        h = ufl.CellDiameter(Q.mesh)
-        sizes = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(h * mu * ufl.dx))
+        mass = dolfinx.fem.petsc.assemble_matrix(
+            dolfinx.fem.form(ufl.TrialFunction(Q) * mu * ufl.dx)
+        )
+        mass.assemble()
+        squares = mass.getDiagonal()
         lengths = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(mu * ufl.dx))
-        for v in (sizes, lengths):
-            v.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        lengths.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         P = multiplier_mass(pair)
         m = P.createVecLeft()
         P.getRowSum(m)
         c = op.G.duplicate()
         n = c.getLocalSize()
-        integral, h_int, m_loc = lengths.array_r[:n], sizes.array_r[:n], m.array_r
+        integral, square, m_loc = lengths.array_r[:n], squares.array_r[:n], m.array_r
         with np.errstate(divide="ignore", invalid="ignore"):
-            h_k = np.where(integral > 0, h_int / integral, 0.0)
+            # A length proportional to the facets around k, on any (curved) geometry.
+            h_k = np.where(square > 0, integral**2 / square, 0.0)
             values = np.where((h_k > 0) & (m_loc > 0), self.penalty * E / (h_k * m_loc), 0.0)
         c.array[:] = values
         start = c.getOwnershipRange()[0]
@@ -315,7 +319,7 @@ class UnilateralContactProblem(LinearContactProblem):
         c.array[off] = 0.0
         if self.comm.allreduce(int(np.count_nonzero(values[np.setdiff1d(np.arange(n), off)] <= 0))):
             raise ValueError(f"pair {j}: a multiplier with no facet size or mass")
-        for obj in (sizes, lengths, P, m):
+        for obj in (mass, squares, lengths, P, m):
             obj.destroy()
         return c
 
