@@ -9,12 +9,14 @@ SUITE   ?= trixie
 
 .PHONY: demo bench test check lint package test-serial test-mpi smoke env clean
 
-## demo: the patch-test and inf-sup studies on 1 and 2 ranks -> results/*.md, *.json, *.png
+## demo: the patch-test, inf-sup and Hertz studies on 1 and 2 ranks -> results/*.md, *.json, *.png
 demo:
 	$(ENV_RUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) python3 demos/demo_infsup.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_infsup.py
+	$(ENV_RUN) python3 demos/demo_hertz.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_hertz.py
 
 ## bench: the inf-sup test against one solve on a 240,000-unknown scene -> results/bench_infsup.json
 bench:
@@ -65,6 +67,8 @@ smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:

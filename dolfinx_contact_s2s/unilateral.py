@@ -93,7 +93,7 @@ DEFAULT_PENALTY = {
 
 @dataclass(frozen=True)
 class Iteration:
-    """One linear solve of a contact iteration.
+    r"""One linear solve of a contact iteration.
 
     Attributes:
         active: Number of active multipliers of each pair (over all processes).
@@ -207,7 +207,7 @@ class UnilateralContactProblem(LinearContactProblem):
         form_compiler_options: dict | None = None,
         jit_options: dict | None = None,
     ):
-        """Set up the problem; the arguments of ``LinearContactProblem`` and these.
+        r"""Set up the problem; the arguments of ``LinearContactProblem`` and these.
 
         Args:
             a: Bilinear form of each displacement space.
@@ -219,13 +219,13 @@ class UnilateralContactProblem(LinearContactProblem):
             petsc_options: Options under the prefix.
             algorithm: One of :data:`ALGORITHMS`.
             start: First active set, one of :data:`STARTS`.
-            penalty: Factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`;
+            penalty: Factor :math:`\\kappa` of :math:`\varepsilon = \\kappa \bar E / h`;
                 defaults to :data:`DEFAULT_PENALTY` of the algorithm.
             max_iterations: Largest number of linear solves per load step (of Uzawa
                 updates, for the augmented Lagrangian).
             tolerance: Largest relative complementarity residual of a converged solve;
                 for the augmented Lagrangian, also the largest relative change of
-                :math:`\lambda` at the last update.
+                :math:`\\lambda` at the last update.
             kind: ``"aij"`` or ``"nest"`` (not with ``"snes-vi"``, which extracts
                 reduced matrices).
             residual_tolerance: Largest relative residual of every linear solve.
@@ -273,7 +273,12 @@ class UnilateralContactProblem(LinearContactProblem):
     def _default_options(self) -> dict[str, typing.Any]:
         options = super()._default_options()
         if self.algorithm == "snes-vi":
-            options |= {"snes_type": "vinewtonrsls", "snes_max_it": self.max_iterations}
+            # The critical-point line search: the default backtracking stalls on Hertz.
+            options |= {
+                "snes_type": "vinewtonrsls",
+                "snes_linesearch_type": "cp",
+                "snes_max_it": self.max_iterations,
+            }
         return options
 
     # --- parameters -----------------------------------------------------------------
@@ -441,7 +446,8 @@ class UnilateralContactProblem(LinearContactProblem):
             return [(v < 0) & ~p for v, p in zip(cg, pinned, strict=True)]
         # "nearest": the penetrating multipliers and those within 1e-8 h of the smallest gap.
         local = min(
-            (float(np.min(v[~p], initial=np.inf)) for v, p in zip(cg, pinned)), default=np.inf
+            (float(np.min(v[~p], initial=np.inf)) for v, p in zip(cg, pinned, strict=True)),
+            default=np.inf,
         )
         smallest = self.comm.allreduce(local, op=MPI.MIN)
         near = smallest + 1e-8 * self.penalty * self._stiffness
@@ -598,13 +604,8 @@ class UnilateralContactProblem(LinearContactProblem):
                 cg = _part(work, is_)
                 gaps.append(np.divide(cg, c.array_r, out=np.zeros_like(cg), where=c.array_r != 0))
             z, residual = self._complementarity(lam, gaps)
-            new = [zj > 0 for zj in z]
-            entered = self.comm.allreduce(
-                sum(int(np.count_nonzero(n & ~a)) for n, a in zip(new, state, strict=True))
-            )
-            left = self.comm.allreduce(
-                sum(int(np.count_nonzero(a & ~n)) for n, a in zip(new, state, strict=True))
-            )
+            # The same rule as the active-set loop, hysteresis against round-off included.
+            new, entered, left = self._update(state, z)
             self._record(step, new, entered, left, residual)
             state[:] = new
             # Equilibrium relative to the larger of the loads and the elastic forces K U.
@@ -643,8 +644,8 @@ class UnilateralContactProblem(LinearContactProblem):
                 self._fail(
                     f"SNES ({snes.getType()}) did not converge at load {step.load:g}: "
                     f"{_SNES_REASONS.get(reason, reason)} after {snes.getIterationNumber()} "
-                    "iterations. A degenerate start (lambda = 0 where the gap is 0) stalls "
-                    "the reduced-space method; algorithm='active-set' handles it"
+                    "iterations (try -snes_linesearch_type basic or cp, more snes_max_it, "
+                    "or algorithm='active-set')"
                 )
             step.converged = True
             x.copy(self.x)
@@ -774,7 +775,8 @@ class UnilateralContactProblem(LinearContactProblem):
                 u.x.array[:n] = U.array_r[offset : offset + n]
                 u.x.scatter_forward()
                 offset += n
-            for f, part in zip(self.multipliers, np.split(lam.array_r, np.cumsum(sizes)[:-1])):
+            parts = np.split(lam.array_r, np.cumsum(sizes)[:-1])
+            for f, part in zip(self.multipliers, parts, strict=True):
                 f.x.array[: part.size] = part
                 f.x.scatter_forward()
             return np.split(flat, np.cumsum(sizes)[:-1])
@@ -825,7 +827,7 @@ _SNES_REASONS = {
 def _relative_change(
     comm: MPI.Comm, new: npt.NDArray[np.floating], old: npt.NDArray[np.floating]
 ) -> float:
-    """:math:`\\max|new - old| / \\max|new|` over all processes (0 if both vanish)."""
+    r""":math:`\\max|new - old| / \\max|new|` over all processes (0 if both vanish)."""
     change = comm.allreduce(float(np.max(np.abs(new - old), initial=0.0)), op=MPI.MAX)
     size = comm.allreduce(float(np.max(np.abs(new), initial=0.0)), op=MPI.MAX)
     return change / size if size > 0 else change

@@ -23,7 +23,8 @@ A_BOUND, P0_BOUND, L2_BOUND = 0.01, 0.02, 0.05
 
 
 @pytest.mark.parametrize(
-    ("cell", "degree"), [("triangle", 1), ("triangle", 2), ("quadrilateral", 1), ("quadrilateral", 2)]
+    ("cell", "degree"),
+    [("triangle", 1), ("triangle", 2), ("quadrilateral", 1), ("quadrilateral", 2)],
 )
 def test_hertz_segment_to_segment(cell, degree):
     """Composite S2S with M^1_{h,k} on P_k, 20 elements across: a, p0 and p(x) of Hertz."""

@@ -104,7 +104,9 @@ def test_patch_test_unilateral(algorithm, cell, degree):
         assert _owned_max(u.x.array - u_tied) <= tol * _owned_max(u_tied)
 
 
-@pytest.mark.parametrize("algorithm", ALGORITHMS)
+# SNES VI ends this scene with one P2 multiplier at lambda ~ 0 and zero weighted gap
+# counted active (a degenerate point of Eq. 1), not with the empty active set.
+@pytest.mark.parametrize("algorithm", [a for a in ALGORITHMS if a != "snes-vi"])
 def test_separation(algorithm):
     """A block held by its supports sags away under its weight: no contact, no singularity.
 
@@ -113,8 +115,6 @@ def test_separation(algorithm):
     nu = 0 the column solution u_y(H) = -rho g H^2 / (2 E) is exact (with nu > 0 the
     rollers at the bottom bend the top), and P2 reproduces it.
     """
-    if algorithm == "snes-vi":
-        pytest.skip("reduced-space VI stalls at this degenerate start (lambda = 0 = gap)")
     part, V = _blocks(degree=2)
     material = Material(E=2.0, nu=0.0)
     a, _, v = material.forms(V)
@@ -169,7 +169,7 @@ def test_overlap_pushed_apart(algorithm):
         algorithm=algorithm,
         start="gap",
     ) as problem:
-        (u,), (lam,) = problem.solve()
+        (_u,), (lam,) = problem.solve()
         E_prime = MATERIAL.E / (1 - MATERIAL.nu**2)
         p = delta / (0.5 / E_prime + 0.5 / E_prime)
         n = pair.Q.dofmap.index_map.size_local

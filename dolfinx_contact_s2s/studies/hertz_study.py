@@ -45,7 +45,7 @@ __all__ = ["HertzCase", "HertzModel", "hertz_model", "run_case"]
 
 @dataclass(frozen=True)
 class HertzCase:
-    """One Hertz run.
+    r"""One Hertz run.
 
     Attributes:
         method: Contact discretization (``contact_pair``'s ``method``).
@@ -147,7 +147,9 @@ def hertz_model(case: HertzCase, comm: MPI.Comm = MPI.COMM_WORLD) -> HertzModel:
     # A rotation about the cylinder's centre moves its arc tangentially: frictionless
     # contact does not hold it, and u_x = 0 on the top (through the centre) neither.
     # The symmetry u_x(0, y) = 0 does, imposed at the contact point's nodes.
-    axis = dolfinx.mesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0) & np.isclose(x[1], 0))
+    axis = dolfinx.mesh.locate_entities(
+        mesh, 0, lambda x: np.isclose(x[0], 0) & np.isclose(x[1], 0)
+    )
     mesh.topology.create_connectivity(0, mesh.topology.dim)
     on_axis = dolfinx.fem.locate_dofs_topological(V.sub(0), 0, axis)
     zero = dolfinx.default_scalar_type(0)
