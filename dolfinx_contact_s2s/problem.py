@@ -517,6 +517,11 @@ class LinearContactProblem:
                 "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
             )
         self._check_residual()
+        self._scatter()
+
+    def _scatter(self) -> None:
+        """Copy the solution :attr:`x` into :attr:`u` and :attr:`multipliers`."""
+        assert self.x is not None
         for f, is_ in zip(self.u + self.multipliers, self.fields.values(), strict=True):
             sub = self.x.getSubVector(is_)
             f.x.array[: sub.getLocalSize()] = sub.array_r

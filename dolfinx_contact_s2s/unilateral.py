@@ -57,6 +57,7 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s.coupling import ContactPair
+from dolfinx_contact_s2s.options import solver_failure
 from dolfinx_contact_s2s.petsc import multiplier_mass
 from dolfinx_contact_s2s.problem import LinearContactProblem
 
@@ -346,12 +347,11 @@ class UnilateralContactProblem(LinearContactProblem):
         mask[op.inactive[(op.inactive >= start) & (op.inactive < end)] - start] = True
         return mask
 
-    def _weighted_gaps(self, load: float) -> list[npt.NDArray[np.floating]]:
+    def _weighted_gaps(self) -> list[npt.NDArray[np.floating]]:
         r"""Owned :math:`\tilde g = \mathbf B \mathbf U + \mathbf G` of every pair from :attr:`u`.
 
-        ``load`` is unused here: :attr:`u` holds the Dirichlet values already scaled.
+        :attr:`u` holds the Dirichlet values already scaled by the load factor.
         """
-        del load
         out = []
         for op in self.operators:
             g = op.G.copy()
@@ -515,15 +515,15 @@ class UnilateralContactProblem(LinearContactProblem):
             active = run(step, active)
             step.seconds = time.perf_counter() - begin
         assert active is not None
-        self._finish(active, loads[-1])
+        self._finish(active)
         return self.u, self.multipliers
 
-    def _finish(self, active: list[npt.NDArray[np.bool_]], load: float) -> None:
+    def _finish(self, active: list[npt.NDArray[np.bool_]]) -> None:
         for f, a in zip(self.active, active, strict=True):
             f.x.array[:] = 0.0
             f.x.array[: a.size] = a
             f.x.scatter_forward()
-        for f, g in zip(self.gaps, self._weighted_gaps(load), strict=True):
+        for f, g in zip(self.gaps, self._weighted_gaps(), strict=True):
             f.x.array[: g.size] = g
             f.x.scatter_forward()
 
@@ -534,7 +534,7 @@ class UnilateralContactProblem(LinearContactProblem):
         for _ in range(self.max_iterations):
             self._build_system(self._released(active), load=step.load)
             self._solve_linear(step)
-            z, residual = self._complementarity(self._lambdas(), self._weighted_gaps(step.load))
+            z, residual = self._complementarity(self._lambdas(), self._weighted_gaps())
             new, entered, left = self._update(active, z)
             self._record(step, active, entered, left, residual)
             if entered == 0 and left == 0 and residual <= self.tolerance:
@@ -649,20 +649,12 @@ class UnilateralContactProblem(LinearContactProblem):
                 )
             step.converged = True
             x.copy(self.x)
-            self._scatter_solution()
+            self._scatter()
             return state
         finally:
             snes.destroy()
             for obj in (x, S, lower, upper, J, Sb, f, work, jx, xu, u_rows):
                 obj.destroy()
-
-    def _scatter_solution(self) -> None:
-        assert self.x is not None
-        for f, is_ in zip(self.u + self.multipliers, self.fields.values(), strict=True):
-            sub = self.x.getSubVector(is_)
-            f.x.array[: sub.getLocalSize()] = sub.array_r
-            self.x.restoreSubVector(is_, sub)
-            f.x.scatter_forward()
 
     # --- penalty and augmented Lagrangian --------------------------------------------
 
@@ -787,8 +779,6 @@ class UnilateralContactProblem(LinearContactProblem):
     def _check_linear(self, ksp: PETSc.KSP, P: PETSc.Mat, rhs: PETSc.Vec, U: PETSc.Vec) -> None:
         """Raise unless the KSP converged with a small relative residual."""
         if ksp.getConvergedReason() < 0:
-            from dolfinx_contact_s2s.options import solver_failure
-
             raise RuntimeError(
                 "the penalty solve failed: " + solver_failure(ksp, self.options.prefix)
             )
