@@ -8,7 +8,9 @@ at :math:`(0, R_1)`: its arc touches :math:`y = 0` at the origin and its flat fa
 upper half of a disk of radius :math:`R_2` centred at :math:`(0, -R_2)` (the arc
 touches the origin, the flat face is :math:`y = -R_2`). Both bodies are surfaces of ONE
 Gmsh model, hence one DOLFINx mesh of two connected components that share no node,
-and each has a mesh node at the contact point :math:`(0, 0)`.
+and each has a mesh node at the contact point :math:`(0, 0)`; the upper arc also has
+nodes at the exact contact edges :math:`x = \pm a` of the design load (unless
+``edge_nodes=False``).
 
 The mesh is graded toward the contact point with a Gmsh ``Distance`` field of the two
 contact points and a ``Threshold`` field: size :math:`h = 2a / n` within
@@ -118,8 +120,14 @@ def _arc_point(
     return geo.addPoint(x, centre[1] + (dy if up else -dy), 0.0)
 
 
-def _upper_body(gmsh: typing.Any, R: float, a: float) -> tuple[int, dict[str, list[int]], int]:
-    """The lower half of the disk of radius ``R`` about ``(0, R)``: surface, curves, origin."""
+def _upper_body(
+    gmsh: typing.Any, R: float, a: float, edge_nodes: bool
+) -> tuple[int, dict[str, list[int]], int]:
+    r"""The lower half of the disk of radius ``R`` about ``(0, R)``: surface, curves, origin.
+
+    With ``edge_nodes``, the points of the arc at :math:`x = \pm a` are geometry points,
+    hence mesh nodes.
+    """
     geo = gmsh.model.geo
     centre = geo.addPoint(0.0, R, 0.0)
     left, right = geo.addPoint(-R, R, 0.0), geo.addPoint(R, R, 0.0)
@@ -127,18 +135,36 @@ def _upper_body(gmsh: typing.Any, R: float, a: float) -> tuple[int, dict[str, li
     q_right = _arc_point(geo, 4.0 * a, (0.0, R), R, up=False)
     origin = geo.addPoint(0.0, 0.0, 0.0)
     # Counterclockwise: along the arc from the origin to the right, the top leftwards, down.
+    if edge_nodes:
+        e_left = _arc_point(geo, -a, (0.0, R), R, up=False)
+        e_right = _arc_point(geo, a, (0.0, R), R, up=False)
+        right_arc = [
+            geo.addCircleArc(origin, centre, e_right),
+            geo.addCircleArc(e_right, centre, q_right),
+        ]
+    else:
+        right_arc = [geo.addCircleArc(origin, centre, q_right)]
     curves = [
-        geo.addCircleArc(origin, centre, q_right),
+        *right_arc,
         geo.addCircleArc(q_right, centre, right),
         geo.addLine(right, left),
         geo.addCircleArc(left, centre, q_left),
-        geo.addCircleArc(q_left, centre, origin),
     ]
+    if edge_nodes:
+        left_arc = [
+            geo.addCircleArc(q_left, centre, e_left),
+            geo.addCircleArc(e_left, centre, origin),
+        ]
+    else:
+        left_arc = [geo.addCircleArc(q_left, centre, origin)]
+    curves += left_arc
     surface = geo.addPlaneSurface([geo.addCurveLoop(curves)])
+    k = len(right_arc)
     parts = {
-        "contactor": [curves[0], curves[4]],
-        "upper_top": [curves[2]],
-        "upper_rest": [curves[1], curves[3]],
+        # With edge nodes: the arcs from the contact point to the edges come first.
+        "contactor": [right_arc[0], left_arc[-1], *right_arc[1:], *left_arc[:-1]],
+        "upper_top": [curves[k + 1]],
+        "upper_rest": [curves[k], curves[k + 2]],
     }
     return surface, parts, origin
 
@@ -206,9 +232,10 @@ def _model(
     D: float,
     cell: str,
     geometry_degree: int,
+    edge_nodes: bool,
 ) -> None:
     """Build and mesh the Hertz scene in the current Gmsh model."""
-    upper, upper_parts, o_upper = _upper_body(gmsh, R1, a)
+    upper, upper_parts, o_upper = _upper_body(gmsh, R1, a, edge_nodes)
     if math.isinf(R2):
         lower, lower_parts, o_lower = _lower_block(gmsh, W, D, a)
         far = min(R1, W, D)
@@ -216,6 +243,13 @@ def _model(
         lower, lower_parts, o_lower = _lower_cylinder(gmsh, R2, a)
         far = min(R1, R2)
     gmsh.model.geo.synchronize()
+    # Quadrilaterals: mesh at twice the size, recombine, split every cell (in 4 or 3).
+    scale = 2.0 if cell == "quadrilateral" else 1.0
+    if edge_nodes:
+        # Uniform cells between the contact point and each edge, n/2 (after the split).
+        segments = max(1, math.floor(a / (scale * h) + 0.5))
+        for curve in upper_parts["contactor"][:2]:
+            gmsh.model.mesh.setTransfiniteCurve(curve, segments + 1)
 
     gmsh.model.addPhysicalGroup(2, [upper], _UPPER, name="upper")
     gmsh.model.addPhysicalGroup(2, [lower], _LOWER, name="lower")
@@ -228,8 +262,6 @@ def _model(
     field.setNumbers(distance, "PointsList", [o_upper, o_lower])
     threshold = field.add("Threshold")
     size_max = max(h, far / 8.0)
-    # Quadrilaterals: mesh at twice the size, recombine, split every cell (in 4 or 3).
-    scale = 2.0 if cell == "quadrilateral" else 1.0
     field.setNumber(threshold, "InField", distance)
     field.setNumber(threshold, "SizeMin", scale * h)
     field.setNumber(threshold, "SizeMax", scale * size_max)
@@ -253,6 +285,7 @@ def hertz(
     geometry_degree: int = 1,
     size: tuple[float, float] = (1.0, 1.0),
     lower_radius: float = math.inf,
+    edge_nodes: bool = True,
     rank: int = 0,
 ) -> HertzScene:
     r"""The Hertz scene: a half cylinder on a block, or on a second half cylinder.
@@ -270,6 +303,11 @@ def hertz(
             Ignored for a lower cylinder.
         lower_radius: Radius :math:`R_2` of the lower cylinder, above :math:`5a`;
             ``math.inf`` (the default) for the block.
+        edge_nodes: Put mesh nodes on the upper arc at :math:`x = \pm a`, the exact
+            contact edges at the design load. The discrete contact conditions act on
+            nodal weighted gaps, so the computed edge is always at a node; an exact
+            edge inside an element adds an error that depends on where in the element
+            it falls, which changes from mesh to mesh (``False`` measures it).
         rank: Rank that builds the Gmsh model.
 
     Returns:
@@ -326,7 +364,7 @@ def hertz(
     with gmsh_session() as gmsh, _options(gmsh, options):
         gmsh.model.add("hertz")
         if comm.rank == rank:
-            _model(gmsh, float(R), R2, float(a), h, W, D, cell, geometry_degree)
+            _model(gmsh, float(R), R2, float(a), h, W, D, cell, geometry_degree, edge_nodes)
         mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, rank, gdim=2)
         gmsh.model.remove()
     mesh.name = "hertz"

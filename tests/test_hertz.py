@@ -9,6 +9,7 @@ a)`, :math:`p(x) = p_0 \sqrt{1 - x^2/a^2}` (Johnson, Contact Mechanics, Eq. 4.45
 package's pressure field), never from a recovered stress.
 """
 
+import itertools
 import math
 
 from mpi4py import MPI
@@ -31,9 +32,7 @@ def test_hertz_segment_to_segment(cell, degree):
     r = run_case(HertzCase(cell=cell, degree=degree), prefix=f"hertz_{cell}_{degree}_")
     assert abs(r["a_error"]) <= A_BOUND
     assert abs(r["p0_error"]) <= P0_BOUND
-    if (cell, degree) != ("quadrilateral", 1):
-        # P1 on quadrilaterals: 6.2% at 20 elements across, 1.6% at 30 (see the report).
-        assert r["pressure_l2_error"] <= L2_BOUND
+    assert r["pressure_l2_error"] <= L2_BOUND
     # The semismooth Newton iteration stopped after a finite number of solves.
     assert 1 <= r["iterations"] < 200
     # The contact zone is where the exact one is: the active multipliers within
@@ -43,18 +42,39 @@ def test_hertz_segment_to_segment(cell, degree):
     assert np.all(np.abs(x) <= r["a_exact"] + 2 * r["h"])
 
 
-def test_hertz_pressure_converges():
-    """The relative L2 pressure error falls under refinement (P1 triangles).
+@pytest.mark.parametrize("cell", ["triangle", "quadrilateral"])
+def test_hertz_pressure_converges(cell):
+    """The relative L2 pressure error falls at every refinement: 10, 20, 40, 80 across.
 
-    Levels 10, 20 and 80 elements across. Not 40: there the error (3.3%) is above the
-    one at 20 (3.1%); where the edge falls inside its element moves the error by more
-    than one halving of h gains (see the report).
+    P1 with M^1_{h,1}; the arc has nodes at the exact edges x = +-a, where the discrete
+    edge (always at a node) can be exact, so that the error is the discretization's.
+    The error of the nodal interpolant of p on these meshes, 0.32 (h/a), bounds the
+    rate from below: the error may not fall faster than h.
     """
     errors = [
-        run_case(HertzCase(elements_across=n), prefix=f"hertz_conv_{n}_")["pressure_l2_error"]
-        for n in (10, 20, 80)
+        run_case(HertzCase(cell=cell, elements_across=n), prefix=f"hertz_conv_{n}_")[
+            "pressure_l2_error"
+        ]
+        for n in (10, 20, 40, 80)
     ]
-    assert errors[0] > errors[1] > errors[2]
+    assert all(coarse > fine for coarse, fine in itertools.pairwise(errors))
+    # First order at least, overall: 80 elements make the error 8 times smaller, up to
+    # the model's own error (0.5%, see the report).
+    assert errors[-1] < errors[0] / 8 + 0.005
+
+
+def test_hertz_edge_inside_an_element():
+    """An exact edge inside an element: a and p0 still within the bounds.
+
+    The computed edge is at a node, so the L2 error depends on where in its element the
+    exact edge falls; it is reported (results/hertz.json), not bounded here.
+    """
+    for n in (20, 21):
+        r = run_case(HertzCase(elements_across=n, edge_nodes=False), prefix=f"hertz_off_{n}_")
+        assert abs(r["a_error"]) <= A_BOUND
+        assert abs(r["p0_error"]) <= P0_BOUND
+        x = np.asarray(r["active_x"])
+        assert np.all(np.abs(x) <= r["a_exact"] + 2 * r["h"])
 
 
 def test_hertz_block_large_enough():

@@ -254,6 +254,25 @@ def test_scene_element_sizes(case):
 
 
 @pytest.mark.parametrize("case", SCENES)
+@pytest.mark.parametrize("n", [10, 20])
+def test_scene_nodes_at_the_exact_edges(case, n):
+    """The arc has nodes at x = +-a, spaced uniformly (h = 2a/n up to rounding) inside."""
+    scene = _scene(*case, n)
+    comm = scene.mesh.comm
+    x = _facets(scene, "contactor")[:, :, 0].ravel()
+    x = np.unique(np.concatenate(comm.allgather(x)))
+    for edge in (-scene.a, 0.0, scene.a):
+        assert np.min(np.abs(x - edge)) < 1e-12
+    inside = np.sort(x[np.abs(x) <= scene.a + 1e-12])
+    # Degree 2: midside nodes halve the spacing; the arc's x = R sin(theta) is
+    # uniform in theta, which leaves a relative spread of (a/R)^2/2 in x.
+    steps = np.diff(inside)
+    assert np.ptp(steps) <= 0.01 * steps.mean()
+    cells = (inside.size - 1) / scene.geometry_degree
+    assert abs(cells - n) <= 0.25 * n
+
+
+@pytest.mark.parametrize("case", SCENES)
 def test_scene_cells_not_inverted(case):
     scene = _scene(*case, 10)
     mesh = scene.mesh

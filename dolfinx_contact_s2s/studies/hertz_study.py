@@ -61,6 +61,8 @@ class HertzCase:
         size: Block half-width and depth.
         upper: :math:`(E, \\nu)` of the cylinder.
         lower: :math:`(E, \\nu)` of the lower body.
+        edge_nodes: Mesh nodes on the arc at the exact edges :math:`x = \\pm a`
+            (:func:`~dolfinx_contact_s2s.scenes_hertz.hertz`).
     """
 
     method: str = "segment-to-segment"
@@ -75,6 +77,7 @@ class HertzCase:
     size: tuple[float, float] = (1.0, 1.0)
     upper: tuple[float, float] = (1.0, 0.3)
     lower: tuple[float, float] = (1.0, 0.3)
+    edge_nodes: bool = True
 
     @property
     def multiplier(self) -> tuple[str, int] | None:
@@ -122,6 +125,7 @@ def hertz_model(case: HertzCase, comm: MPI.Comm = MPI.COMM_WORLD) -> HertzModel:
         geometry_degree=min(case.degree, 2),
         size=case.size,
         lower_radius=case.R2,
+        edge_nodes=case.edge_nodes,
     )
     mesh = scene.mesh
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", case.degree, (2,)))
