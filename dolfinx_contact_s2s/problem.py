@@ -14,9 +14,11 @@ This module needs petsc4py and must be imported explicitly.
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import time
 import typing
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -38,12 +40,15 @@ from dolfinx_contact_s2s.options import (
 )
 from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling
 
-__all__ = ["DEFAULT_OPTIONS", "LinearContactProblem"]
+__all__ = ["DEFAULT_OPTIONS", "TIMINGS", "LinearContactProblem"]
 
 logger = logging.getLogger(__name__)
 
 #: Solver defaults; each yields to ``petsc_options`` and to the options database.
 DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+
+#: The stages of :attr:`LinearContactProblem.timings`.
+TIMINGS = ("stiffness", "contact", "system", "solve")
 
 
 def _as_list(forms: typing.Any) -> list:
@@ -208,9 +213,24 @@ class LinearContactProblem:
         self._masks: list[PETSc.Vec] = []
         self._values: list[PETSc.Vec] = []
 
+        #: Wall time (s, this process) spent so far in each stage, summed over solves:
+        #: ``"stiffness"`` (K and F), ``"contact"`` (search, segmentation and the
+        #: coupling, :func:`~dolfinx_contact_s2s.petsc.assemble_coupling`), ``"system"``
+        #: (the saddle point and the checks) and ``"solve"`` (factorizations and solves).
+        self.timings: dict[str, float] = dict.fromkeys(TIMINGS, 0.0)
+
         self.options = PETScOptions(petsc_options_prefix, petsc_options, self._default_options())
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
+
+    @contextlib.contextmanager
+    def _timed(self, stage: str) -> Iterator[None]:
+        """Add the wall time of the block to :attr:`timings` ``[stage]``."""
+        begin = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.timings[stage] += time.perf_counter() - begin
 
     def _default_options(self) -> dict[str, typing.Any]:
         """Solver defaults of this problem; each yields to ``petsc_options`` and the database."""
@@ -303,22 +323,25 @@ class LinearContactProblem:
                 constraints are redundant.
         """
         self._destroy_assembly()
-        for K, F, ai, Li, bcs in zip(
-            self.stiffness, self._loads, self.a, self.L, self.bcs_by_space, strict=True
-        ):
-            K.zeroEntries()
-            dolfinx.fem.petsc.assemble_matrix(K, ai, bcs=bcs)
-            K.assemble()
-            with F.localForm() as f:
-                f.set(0.0)
-            dolfinx.fem.petsc.assemble_vector(F, Li)
-            dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bcs])
-            F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-            dolfinx.fem.petsc.set_bc(F, bcs)
-        self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
-        self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
-        self._owned.extend(self._masks + self._values)
-        self.operators = [assemble_coupling(pair) for pair in self.pairs]
+        with self._timed("stiffness"):
+            for K, F, ai, Li, bcs in zip(
+                self.stiffness, self._loads, self.a, self.L, self.bcs_by_space, strict=True
+            ):
+                K.zeroEntries()
+                dolfinx.fem.petsc.assemble_matrix(K, ai, bcs=bcs)
+                K.assemble()
+                with F.localForm() as f:
+                    f.set(0.0)
+                dolfinx.fem.petsc.assemble_vector(F, Li)
+                dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bcs])
+                F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+                dolfinx.fem.petsc.set_bc(F, bcs)
+        with self._timed("system"):
+            self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
+            self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
+            self._owned.extend(self._masks + self._values)
+        with self._timed("contact"):
+            self.operators = [assemble_coupling(pair) for pair in self.pairs]
         for j, op in enumerate(self.operators):
             if op.uncovered.size:
                 logger.info(
@@ -327,8 +350,9 @@ class LinearContactProblem:
                     op.uncovered.size,
                 )
         if check:
-            self._check_support(self._masks)
-            self._check_redundancy(self._masks)
+            with self._timed("system"):
+                self._check_support(self._masks)
+                self._check_redundancy(self._masks)
         self._build_system()
 
     def _build_system(
@@ -341,6 +365,12 @@ class LinearContactProblem:
                 inactive ones (the inactive set of a unilateral contact iteration).
             load: Factor on :math:`\mathbf F` and the Dirichlet values.
         """
+        with self._timed("system"):
+            self._assemble_system(released, load)
+
+    def _assemble_system(
+        self, released: Sequence[npt.NDArray[np.int64]] | None, load: float
+    ) -> None:
         self._destroy_system()
         nb, npairs = len(self.spaces), len(self.pairs)
         blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
@@ -497,6 +527,10 @@ class LinearContactProblem:
 
     def _solve_system(self) -> None:
         """Solve the current saddle point, check the solve and scatter the solution."""
+        with self._timed("solve"):
+            self._solve_checked()
+
+    def _solve_checked(self) -> None:
         assert self.A is not None and self.b is not None and self.x is not None
         self.solver.solve(self.b, self.x)
         for _ in range(self.workspace_retries):

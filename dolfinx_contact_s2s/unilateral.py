@@ -638,7 +638,8 @@ class UnilateralContactProblem(LinearContactProblem):
             self.options.apply(snes)
             snes.setVariableBounds(lower, upper)
             snes.setConvergenceTest(converged)
-            snes.solve(None, x)
+            with self._timed("solve"):
+                snes.solve(None, x)
             reason = snes.getConvergedReason()
             if reason <= 0:
                 self._fail(
@@ -729,8 +730,9 @@ class UnilateralContactProblem(LinearContactProblem):
                     rhs.axpy(-1.0, work)
                     ksp.setOperators(P)
                     self.options.apply(ksp)
-                    ksp.solve(rhs, U)
-                    self._check_linear(ksp, P, rhs, U)
+                    with self._timed("solve"):
+                        ksp.solve(rhs, U)
+                        self._check_linear(ksp, P, rhs, U)
                     WC.destroy()
                     P.destroy()
                     minus_C.mult(U, g)
