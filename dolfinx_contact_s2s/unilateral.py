@@ -274,10 +274,11 @@ class UnilateralContactProblem(LinearContactProblem):
     def _default_options(self) -> dict[str, typing.Any]:
         options = super()._default_options()
         if self.algorithm == "snes-vi":
-            # The critical-point line search: the default backtracking stalls on Hertz.
+            # Full semismooth Newton steps: backtracking (bt) stalls on Hertz, l2 halves
+            # its steps for hundreds of iterations, cp stops out of balance (README).
             options |= {
                 "snes_type": "vinewtonrsls",
-                "snes_linesearch_type": "cp",
+                "snes_linesearch_type": "basic",
                 "snes_max_it": self.max_iterations,
             }
         return options
@@ -595,6 +596,8 @@ class UnilateralContactProblem(LinearContactProblem):
             J.mult(x, f)
             f.axpy(-1.0, Sb)
 
+        accepted = [False]
+
         def converged(snes: PETSc.SNES, it: int, norms: tuple) -> int:
             x = snes.getSolution()
             function(None, x, work)
@@ -621,7 +624,8 @@ class UnilateralContactProblem(LinearContactProblem):
                 np.finfo(float).tiny,
             )
             equilibrium = _norm(self.comm, _part(work, u_rows)) / scale
-            if residual <= self.tolerance and equilibrium <= self.residual_tolerance:
+            accepted[0] = residual <= self.tolerance and equilibrium <= self.residual_tolerance
+            if accepted[0]:
                 return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
             if it >= snes.getTolerances()[3]:
                 return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
@@ -641,11 +645,21 @@ class UnilateralContactProblem(LinearContactProblem):
             with self._timed("solve"):
                 snes.solve(None, x)
             reason = snes.getConvergedReason()
+            if reason > 0 and not accepted[0]:
+                # PETSc's VI solver can stop on its own tests (its line search, say),
+                # which do not see the equilibrium: measured on Hertz with the cp line
+                # search, stopped with 3% out of balance.
+                self._fail(
+                    f"SNES ({snes.getType()}) stopped at load {step.load:g} "
+                    f"({_SNES_REASONS.get(reason, reason)}) after "
+                    f"{snes.getIterationNumber()} iterations without meeting the "
+                    "complementarity and equilibrium tests (try algorithm='active-set')"
+                )
             if reason <= 0:
                 self._fail(
                     f"SNES ({snes.getType()}) did not converge at load {step.load:g}: "
                     f"{_SNES_REASONS.get(reason, reason)} after {snes.getIterationNumber()} "
-                    "iterations (try -snes_linesearch_type basic or cp, more snes_max_it, "
+                    "iterations (try more snes_max_it, "
                     "or algorithm='active-set')"
                 )
             step.converged = True

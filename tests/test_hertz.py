@@ -17,7 +17,8 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, run_case
+from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model, run_case
+from dolfinx_contact_s2s.unilateral import ContactConvergenceError, UnilateralContactProblem
 
 #: The issue's bounds on the half-width, the peak pressure and the L2 pressure error.
 A_BOUND, P0_BOUND, L2_BOUND = 0.01, 0.02, 0.05
@@ -119,3 +120,33 @@ def test_hertz_serial_and_parallel_agree():
     assert world["active_x"] == alone["active_x"]
     for key in ("a", "p0", "pressure_l2_error"):
         assert abs(world[key] - alone[key]) <= 1e-10 * abs(alone[key])
+
+
+@pytest.mark.parametrize("line_search", ["basic", "cp"])
+def test_snes_vi_never_returns_an_unbalanced_answer(line_search):
+    """SNES VI gives the active-set answer, or raises: never a plausible wrong one.
+
+    With the critical-point line search PETSc stops the VI solver on Hertz (20 across)
+    with the bodies out of balance by 3%; the solve must raise, not return it.
+    """
+    reference = run_case(HertzCase(), prefix="hertz_vi_ref_")
+    model = hertz_model(HertzCase())
+    problem = UnilateralContactProblem(
+        model.a,
+        model.L,
+        [model.pair()],
+        model.bcs,
+        petsc_options_prefix=f"hertz_vi_{line_search}_",
+        petsc_options={"snes_linesearch_type": line_search},
+        algorithm="snes-vi",
+        max_iterations=200,
+    )
+    with problem:
+        try:
+            (_,), (lam,) = problem.solve()
+        except ContactConvergenceError as error:
+            assert line_search != "basic", error
+            assert error.history.steps
+            return
+        p0 = lam.function_space.mesh.comm.allreduce(lam.x.array.max(), op=MPI.MAX)
+    assert abs(p0 / reference["p0"] - 1) < 1e-10
