@@ -92,7 +92,7 @@ DELTA = 0.01
 LEVELS = (2, 4, 8, 16)
 
 #: Level of the reference solution of the ``"paper"`` variant (a multiple of the others).
-REFERENCE_LEVEL = 48
+REFERENCE_LEVEL = 32
 
 
 @dataclass(frozen=True)
