@@ -1,0 +1,169 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+# # Speed and accuracy: which method for which error
+#
+# Node-to-segment is cheap and fails the patch test on non-matching meshes; composite
+# segment-to-segment (El-Abbasi & Bathe 2001, section 5) passes it and integrates on
+# more points; the quadrature rule and the penalty parameter move along the same line.
+# This demo measures the trade on the same meshes: every discretization of
+# `contact_pairs` (node-to-segment with unit and tributary weights, at Gauss points,
+# two-pass, the intermediate surface, segment-to-segment with plain and composite
+# Gauss and Newton-Cotes rules of 1 to 4 points, $P_1$ and $P_2$) with the active-set
+# solver, and every solver of `UnilateralContactProblem` (active set, SNES VI, the
+# augmented Lagrangian, the penalty method at $\kappa = 10$ to $10^4$) with composite
+# S2S and node-to-segment, on
+#
+# - the non-matching patch test (section 3.2), $10n/7n$ elements along the contact,
+#   error $\max|\lambda - p|/p$;
+# - Hertz (a half cylinder on a block, $a/R = 5\%$), $n$ elements across the contact
+#   width, error: the relative $L^2$ error of the pressure over $[-a, a]$.
+#
+# Wall times are the minimum over repeats (`problem.timings` per stage, and the total
+# from building the pairs to the solved problem; the meshes are shared).
+#
+# The demo writes `results/tradeoff.json` (one record per scene, method, degree,
+# solver and level), `results/tradeoff_patch.png` and `results/tradeoff_hertz.png`
+# (error against time, log-log, Pareto front drawn), and the "Speed and accuracy"
+# section of `results/report.md`. Run it as `python3 demos/demo_tradeoff.py` or with
+# `mpirun -n 2`; `--smoke` runs a tiny version into another folder.
+
+# +
+import argparse
+from pathlib import Path
+
+from mpi4py import MPI
+
+from dolfinx_contact_s2s.studies.tradeoff import (
+    METHODS,
+    PRIMARY,
+    SOLVERS,
+    grid,
+    guide,
+    markdown,
+    pareto,
+    plot,
+    run_study,
+    update_results,
+)
+
+parser = argparse.ArgumentParser(description="speed-accuracy trade of the contact methods")
+parser.add_argument("--smoke", action="store_true", help="a tiny version")
+parser.add_argument("--out", type=Path, default=None, help="output folder")
+parser.add_argument("--repeats", type=int, default=None, help="timed runs per case")
+args = parser.parse_args()
+comm = MPI.COMM_WORLD
+out = args.out or Path("build/smoke/tradeoff" if args.smoke else "results")
+if comm.rank == 0:
+    out.mkdir(parents=True, exist_ok=True)
+comm.Barrier()
+
+
+def log(message: str) -> None:
+    if comm.rank == 0:
+        print(message, flush=True)
+
+
+# -
+
+# ## The runs
+#
+# Every method with the active-set loop; every solver with composite S2S (3 Gauss
+# points per sub-segment) and node-to-segment with tributary weights.
+
+# +
+if args.smoke:
+    methods = ["S2S composite Gauss 2", "S2S Gauss 2", "NTS, tributary w", "two-pass NTS"]
+    runs = grid(
+        ["patch", "hertz"],
+        [1],
+        {"patch": [1], "hertz": [10]},
+        methods,
+        ["active-set", "penalty 1e2"],
+        ["S2S composite Gauss 2"],
+    )
+    repeats = args.repeats or 1
+else:
+    # P2 on Hertz stops at 20 across: at 40 one run takes seconds (x 3 repeats).
+    runs = [
+        *grid(
+            ["patch", "hertz"],
+            [1],
+            {"patch": [1, 2, 4], "hertz": [10, 20, 40]},
+            list(METHODS),
+            list(SOLVERS),
+            ["S2S composite Gauss 3", "NTS, tributary w"],
+        ),
+        *grid(
+            ["patch", "hertz"],
+            [2],
+            {"patch": [1, 2, 4], "hertz": [10, 20]},
+            list(METHODS),
+            list(SOLVERS),
+            ["S2S composite Gauss 3", "NTS, tributary w"],
+        ),
+    ]
+    repeats = args.repeats or 2
+log(f"{len(runs)} runs, {repeats} repeat(s) each, {comm.size} rank(s)")
+records = run_study(comm, runs, repeats=repeats, log=log)
+pareto(records)
+# -
+
+# ## Output
+
+# +
+if comm.rank == 0:
+    everything = update_results(out / "tradeoff.json", records, comm.size)
+    pareto(everything)
+    mine = [r for r in everything if r["ranks"] == comm.size]
+    for scene in ("patch", "hertz"):
+        plot(out / f"tradeoff_{scene}.png", mine, scene)
+    targets = {"patch": [1e-2, 1e-6, 1e-10], "hertz": [5e-2, 2e-2, 1e-2]}
+    failed = [r for r in records if "failed" in r or "skipped" in r]
+    section = [
+        "## Speed and accuracy",
+        "",
+        f"`demos/demo_tradeoff.py`, {comm.size} rank(s), {repeats} repeat(s) per run "
+        "(times are the minimum; 2 shared cores, so treat differences under ~20% as "
+        "noise); P2 Hertz up to n = 20. Every discretization with the active-set loop, "
+        "and every solver with "
+        "composite S2S (3 Gauss points) and node-to-segment (tributary weights), on the "
+        "same meshes. Patch test: non-matching, 10n/7n elements along the contact, "
+        f"error `{PRIMARY['patch']}` = max |lambda - p|/p. Hertz: n elements across 2a, "
+        f"error `{PRIMARY['hertz']}` = relative L2 error of the pressure over [-a, a]. "
+        "`total` runs from building the pairs to the solved problem (the mesh is "
+        "shared); `unknowns` counts displacements and multipliers (the penalty method "
+        "solves for the displacements only). Records: `results/tradeoff.json`.",
+        "",
+        "![patch](tradeoff_patch.png) ![hertz](tradeoff_hertz.png)",
+        "",
+        "### The cheapest run that reaches an error",
+        "",
+        *guide(everything, comm.size, targets),
+        "",
+        "### The Pareto front",
+        "",
+    ]
+    for scene in ("patch", "hertz"):
+        section += [f"{scene}:", "", *markdown(mine, scene, only_front=True), ""]
+    section += [
+        f"### Runs that failed or do not apply ({len(failed)})",
+        "",
+        *(
+            f"- {r['scene']} P{r['degree']} n={r['level']} {r['method']}, {r['solver']}: "
+            f"{r.get('failed') or r.get('skipped')}"
+            for r in failed
+        ),
+        "",
+        "### Every run",
+        "",
+    ]
+    for scene in ("patch", "hertz"):
+        section += [f"{scene}:", "", *markdown(mine, scene), ""]
+    report = out / "report.md"
+    text = report.read_text() if report.exists() else "# dolfinx_contact_s2s: results\n"
+    head, _, rest = text.partition("\n## Speed and accuracy")
+    # Keep the sections after ours (the next "## " heading) in place.
+    tail = rest[rest.find("\n## ") :] if "\n## " in rest else ""
+    report.write_text(head.rstrip("\n") + "\n\n" + "\n".join(section) + tail)
+    log(f"wrote {out / 'tradeoff.json'}, {report}, {out}/tradeoff_*.png")
+# -
