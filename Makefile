@@ -9,7 +9,7 @@ SUITE   ?= trixie
 
 .PHONY: demo bench test check lint package test-serial test-mpi smoke env clean
 
-## demo: the patch-test, inf-sup and Hertz studies on 1 and 2 ranks -> results/*.md, *.json, *.png
+## demo: the patch-test, inf-sup, Hertz, Fig. 16 and speed-accuracy studies on 1 and 2 ranks -> results/
 demo:
 	$(ENV_RUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py
@@ -17,6 +17,10 @@ demo:
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_infsup.py
 	$(ENV_RUN) python3 demos/demo_hertz.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_hertz.py
+	$(ENV_RUN) python3 demos/demo_fig16.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_fig16.py
+	$(ENV_RUN) python3 demos/demo_tradeoff.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_tradeoff.py
 
 ## bench: the inf-sup test against one solve on a 240,000-unknown scene -> results/bench_infsup.json
 bench:
@@ -69,6 +73,10 @@ smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_fig16.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_fig16.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_tradeoff.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_tradeoff.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:

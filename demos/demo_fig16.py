@@ -32,7 +32,6 @@
 # +
 import argparse
 import math
-import re
 from pathlib import Path
 
 from mpi4py import MPI
@@ -47,6 +46,7 @@ from dolfinx_contact_s2s.studies.fig16 import (
     SmoothSolution,
     run_case,
 )
+from dolfinx_contact_s2s.studies.report import write_section
 
 parser = argparse.ArgumentParser(description="Fig. 16: convergence on the inf-sup model")
 parser.add_argument("--smoke", action="store_true", help="two coarse levels")
@@ -278,16 +278,7 @@ section = [
     "",
 ]
 if comm.rank == 0 and not (args.smoke and args.out == Path("results")):
-    report = out / "report.md"
-    text = report.read_text() if report.exists() else "# dolfinx_contact_s2s: results\n"
-    body = "\n".join(section)
-    # Replace only this section: from its heading to the next "## " heading or the end.
-    pattern = re.compile(r"^## Fig\. 16:.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(text):
-        text = pattern.sub(lambda _: body + "\n", text, count=1)
-    else:
-        text = text.rstrip("\n") + "\n\n" + body + "\n"
-    report.write_text(text)
+    write_section(out / "report.md", "fig16", section)
 log(f"wrote {out / 'fig16_smooth.png'}, {out / 'fig16_paper.png'}, convergence.json, report.md")
 log("\n".join(["smooth:", *rate_table("smooth"), "paper:", *rate_table("paper")]))
 assert math.isfinite(s2s2)

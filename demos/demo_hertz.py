@@ -37,6 +37,7 @@ from mpi4py import MPI
 import numpy as np
 
 from dolfinx_contact_s2s.studies.hertz_study import HertzCase, run_case
+from dolfinx_contact_s2s.studies.report import write_section
 
 parser = argparse.ArgumentParser(description="Hertz contact study")
 parser.add_argument("--smoke", action="store_true", help="a few coarse cases")
@@ -276,8 +277,6 @@ if comm.rank == 0:
         "",
     ]
     report = out / "report.md"
-    text = report.read_text() if report.exists() else "# dolfinx_contact_s2s: results\n"
-    text = text.split("\n## Hertz contact")[0].rstrip("\n") + "\n\n"
-    report.write_text(text + "\n".join(section))
+    write_section(report, "hertz", section)
     log(f"wrote {out / 'hertz.json'}, {report} and figures")
 # -

@@ -62,6 +62,7 @@ from dolfinx_contact_s2s.studies.patch_test import (
     solve_patch_test,
     stress_component_errors,
 )
+from dolfinx_contact_s2s.studies.report import write_section
 
 parser = argparse.ArgumentParser(description="The contact patch test study")
 parser.add_argument("--smoke", action="store_true", help="a few cases only")
@@ -421,7 +422,7 @@ if comm.rank == 0:
             f"{r['elements'][0]}/{r['elements'][1]} | {r['sigma_x_error']:.2e} "
             f"| {r['sigma_y_error']:.2e} |"
         )
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    write_section(out / "report.md", "patch_test", lines[2:])
     log(f"wrote {out / 'report.md'}, {out / 'patch_test.json'}, {out / 'fig10.json'} and figures")
 
 disagree = comm.allreduce(sum(not r["agrees"] for r in records))

@@ -33,6 +33,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
+from dolfinx_contact_s2s.studies.report import write_section
 from dolfinx_contact_s2s.studies.tradeoff import (
     METHODS,
     PRIMARY,
@@ -160,10 +161,6 @@ if comm.rank == 0:
     for scene in ("patch", "hertz"):
         section += [f"{scene}:", "", *markdown(mine, scene), ""]
     report = out / "report.md"
-    text = report.read_text() if report.exists() else "# dolfinx_contact_s2s: results\n"
-    head, _, rest = text.partition("\n## Speed and accuracy")
-    # Keep the sections after ours (the next "## " heading) in place.
-    tail = rest[rest.find("\n## ") :] if "\n## " in rest else ""
-    report.write_text(head.rstrip("\n") + "\n\n" + "\n".join(section) + tail)
+    write_section(report, "tradeoff", section)
     log(f"wrote {out / 'tradeoff.json'}, {report}, {out}/tradeoff_*.png")
 # -
