@@ -50,6 +50,7 @@ __all__ = [
     "assert_rate",
     "convergence_study",
     "records",
+    "richardson",
     "update_results",
 ]
 
@@ -703,3 +704,19 @@ def update_results(
             os.fsync(f.fileno())
 
     _on_rank0(comm, write)
+
+
+def richardson(levels: Sequence[float], values: Sequence[float]) -> tuple[float, float]:
+    r"""Limit and order :math:`(E, q)` of :math:`E_h = E + C h^q` from three levels.
+
+    ``levels`` are :math:`h` with a constant ratio :math:`r = h_1/h_2 = h_2/h_3`.
+    """
+    (h1, h2, h3), (e1, e2, e3) = levels[-3:], values[-3:]
+    r = h1 / h2
+    if not math.isclose(r, h2 / h3, rel_tol=1e-6):
+        raise ValueError("Richardson extrapolation needs a constant refinement ratio")
+    d1, d2 = e1 - e2, e2 - e3
+    if d1 == 0 or d2 == 0 or d1 / d2 <= 0:
+        raise ValueError("the values do not converge monotonically")
+    q = math.log(d1 / d2) / math.log(r)
+    return e3 - d2 / (r**q - 1.0), q

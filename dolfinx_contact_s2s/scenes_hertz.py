@@ -233,6 +233,7 @@ def _model(
     cell: str,
     geometry_degree: int,
     edge_nodes: bool,
+    far_size: float | None,
 ) -> None:
     """Build and mesh the Hertz scene in the current Gmsh model."""
     upper, upper_parts, o_upper = _upper_body(gmsh, R1, a, edge_nodes)
@@ -261,7 +262,7 @@ def _model(
     distance = field.add("Distance")
     field.setNumbers(distance, "PointsList", [o_upper, o_lower])
     threshold = field.add("Threshold")
-    size_max = max(h, far / 8.0)
+    size_max = max(h, far / 8.0 if far_size is None else far_size)
     field.setNumber(threshold, "InField", distance)
     field.setNumber(threshold, "SizeMin", scale * h)
     field.setNumber(threshold, "SizeMax", scale * size_max)
@@ -286,6 +287,7 @@ def hertz(
     size: tuple[float, float] = (1.0, 1.0),
     lower_radius: float = math.inf,
     edge_nodes: bool = True,
+    far_size: float | None = None,
     rank: int = 0,
 ) -> HertzScene:
     r"""The Hertz scene: a half cylinder on a block, or on a second half cylinder.
@@ -308,6 +310,9 @@ def hertz(
             nodal weighted gaps, so the computed edge is always at a node; an exact
             edge inside an element adds an error that depends on where in the element
             it falls, which changes from mesh to mesh (``False`` measures it).
+        far_size: Element size far from the contact (default: the smallest of
+            :math:`R_1, R_2, W, D` over 8). A convergence study of global quantities
+            (the strain energy) refines it with ``h``.
         rank: Rank that builds the Gmsh model.
 
     Returns:
@@ -331,6 +336,8 @@ def hertz(
         raise ValueError(f"elements_across must be an integer, not {elements_across!r}")
     if elements_across < 1:
         raise ValueError(f"elements_across must be 1 or more, not {elements_across}")
+    if far_size is not None and not (far_size > 0.0 and math.isfinite(far_size)):
+        raise ValueError(f"far_size must be positive and finite, not {far_size!r}")
     if not 0 <= rank < comm.size:
         raise ValueError(f"rank {rank} is not a rank of the communicator (size {comm.size})")
     R2 = float(lower_radius)
@@ -364,7 +371,9 @@ def hertz(
     with gmsh_session() as gmsh, _options(gmsh, options):
         gmsh.model.add("hertz")
         if comm.rank == rank:
-            _model(gmsh, float(R), R2, float(a), h, W, D, cell, geometry_degree, edge_nodes)
+            _model(
+                gmsh, float(R), R2, float(a), h, W, D, cell, geometry_degree, edge_nodes, far_size
+            )
         mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, rank, gdim=2)
         gmsh.model.remove()
     mesh.name = "hertz"

@@ -53,6 +53,7 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
+from dolfinx_contact_s2s.convergence import richardson
 from dolfinx_contact_s2s.elasticity import epsilon
 from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, RIGHT, TOP, PatchTestScene, inf_sup_model
 from dolfinx_contact_s2s.studies.blocks import MATERIALS, NAMES, block_pairs, block_spaces
@@ -74,7 +75,6 @@ __all__ = [
     "energy_norm_error",
     "fig16_problem",
     "fig16_scene",
-    "richardson",
     "run_case",
     "strain_energy",
 ]
@@ -539,19 +539,3 @@ def run_case(
     return convergence_study(
         solve, list(levels), errors, name=f"Fig. 16 {variant}, {case.label}", comm=comm, log=log
     )
-
-
-def richardson(levels: Sequence[float], values: Sequence[float]) -> tuple[float, float]:
-    r"""Limit and order :math:`(E, q)` of :math:`E_h = E + C h^q` from three levels.
-
-    ``levels`` are :math:`h` with a constant ratio :math:`r = h_1/h_2 = h_2/h_3`.
-    """
-    (h1, h2, h3), (e1, e2, e3) = levels[-3:], values[-3:]
-    r = h1 / h2
-    if not math.isclose(r, h2 / h3, rel_tol=1e-6):
-        raise ValueError("Richardson extrapolation needs a constant refinement ratio")
-    d1, d2 = e1 - e2, e2 - e3
-    if d1 == 0 or d2 == 0 or d1 / d2 <= 0:
-        raise ValueError("the values do not converge monotonically")
-    q = math.log(d1 / d2) / math.log(r)
-    return e3 - d2 / (r**q - 1.0), q

@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, replace
+from types import SimpleNamespace
 
 from mpi4py import MPI
 
@@ -35,12 +37,25 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
+from dolfinx_contact_s2s.convergence import ConvergenceTable, convergence_study, richardson
 from dolfinx_contact_s2s.elasticity import Material, epsilon
 from dolfinx_contact_s2s.scenes_hertz import HertzScene, hertz
 from dolfinx_contact_s2s.studies.hertz import Hertz, measure
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 
-__all__ = ["HertzCase", "HertzModel", "hertz_model", "run_case"]
+__all__ = [
+    "LEVELS",
+    "HertzCase",
+    "HertzModel",
+    "add_energy_error",
+    "energy_reference",
+    "hertz_convergence",
+    "hertz_model",
+    "run_case",
+]
+
+#: Elements across the contact width of the convergence studies.
+LEVELS = (10, 20, 40, 80)
 
 
 @dataclass(frozen=True)
@@ -61,6 +76,7 @@ class HertzCase:
         size: Block half-width and depth.
         upper: :math:`(E, \\nu)` of the cylinder.
         lower: :math:`(E, \\nu)` of the lower body.
+        far_size: Element size far from the contact (None: the scene's default).
         edge_nodes: Mesh nodes on the arc at the exact edges :math:`x = \\pm a`
             (:func:`~dolfinx_contact_s2s.scenes_hertz.hertz`).
     """
@@ -78,6 +94,7 @@ class HertzCase:
     upper: tuple[float, float] = (1.0, 0.3)
     lower: tuple[float, float] = (1.0, 0.3)
     edge_nodes: bool = True
+    far_size: float | None = None
 
     @property
     def multiplier(self) -> tuple[str, int] | None:
@@ -126,6 +143,7 @@ def hertz_model(case: HertzCase, comm: MPI.Comm = MPI.COMM_WORLD) -> HertzModel:
         size=case.size,
         lower_radius=case.R2,
         edge_nodes=case.edge_nodes,
+        far_size=case.far_size,
     )
     mesh = scene.mesh
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", case.degree, (2,)))
@@ -202,6 +220,14 @@ def run_case(
     ) as problem:
         (u,), (lam,) = problem.solve()
         m = measure(lam, exact)
+        # Strain energy 1/2 a(u, u) of both bodies.
+        energy = comm.allreduce(
+            dolfinx.fem.assemble_scalar(
+                dolfinx.fem.form(0.5 * ufl.action(ufl.action(model.a, u), u))
+            ),
+            op=MPI.SUM,
+        )
+        timings = dict(problem.timings)
         history = problem.history
         Q = pair.Q
         n = Q.dofmap.index_map.size_local
@@ -227,6 +253,8 @@ def run_case(
         "p0_error": m.p0_error,
         "pressure_l2_error": m.pressure_l2_error,
         "F": exact.F,
+        "energy": float(energy),
+        "timings": timings,
         "iterations": history.iterations,
         "active_counts": [list(it.active) for s in history.steps for it in s.iterations],
         "active_x": active_x.tolist(),
@@ -239,3 +267,59 @@ def run_case(
     if keep:
         record["functions"] = functions
     return record
+
+
+def hertz_convergence(
+    case: HertzCase,
+    levels: Sequence[int] = LEVELS,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    *,
+    log: Callable[[str], None] | None = None,
+) -> tuple[ConvergenceTable, list[dict]]:
+    r"""Solve ``case`` at every level and measure it against Hertz (collective).
+
+    The whole mesh refines with the level: :math:`h = 2a/n` at the contact and
+    :math:`\min(R_1, W, D) / 8 \cdot 10/n` far from it, so that the strain energy
+    converges too. Errors: ``"a"``, ``"p0"`` (relative, absolute values),
+    ``"pressure_l2"`` (relative, over :math:`[-a, a]`). Each record (see
+    :func:`run_case`) has the strain energy under ``"energy"``; add the energy error
+    with :func:`add_energy_error` once a reference is known.
+
+    Returns:
+        The table and the records of the levels.
+    """
+    far = min(case.R1, case.R2, *case.size) / 8.0
+    runs: list[dict] = []
+
+    def solve(n: int) -> SimpleNamespace:
+        level = replace(case, elements_across=n, far_size=far * 10.0 / n)
+        record = run_case(level, comm, prefix=f"hertz_conv_{n}_")
+        runs.append(record)
+        return SimpleNamespace(record=record, timings=record["timings"])
+
+    def error(key: str) -> Callable[[SimpleNamespace], float]:
+        return lambda s: abs(float(s.record[key]))
+
+    table = convergence_study(
+        solve,
+        list(levels),
+        {"a": error("a_error"), "p0": error("p0_error"), "pressure_l2": error("pressure_l2_error")},
+        h=lambda s: s.record["h"],
+        unknowns=lambda s: s.record["dofs"],
+        name=f"Hertz, {case.method}, {case.cell}, P{case.degree}",
+        comm=comm,
+        log=log,
+        cleanup=lambda s: None,
+    )
+    return table, runs
+
+
+def energy_reference(runs: Sequence[dict]) -> tuple[float, float]:
+    """Strain energy of the limit and its order, by Richardson from the last three runs."""
+    return richardson([r["h"] for r in runs], [r["energy"] for r in runs])
+
+
+def add_energy_error(table: ConvergenceTable, runs: Sequence[dict], reference: float) -> None:
+    r"""Add :math:`|E - E_h| / E` as the error ``"energy"`` of every level of ``table``."""
+    for level, run in zip(table.levels, runs, strict=True):
+        level.errors["energy"] = abs(run["energy"] / reference - 1.0)
