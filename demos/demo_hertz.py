@@ -36,7 +36,15 @@ from mpi4py import MPI
 
 import numpy as np
 
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, run_case
+from dolfinx_contact_s2s.convergence import records as records_of
+from dolfinx_contact_s2s.convergence import update_results
+from dolfinx_contact_s2s.studies.hertz_study import (
+    HertzCase,
+    add_energy_error,
+    energy_reference,
+    hertz_convergence,
+    run_case,
+)
 from dolfinx_contact_s2s.studies.report import write_section
 
 parser = argparse.ArgumentParser(description="Hertz contact study")
@@ -76,23 +84,58 @@ def run(case: HertzCase, keep: bool = False) -> dict:
 #
 # Composite segment-to-segment with $\mathcal M^1_{h,k}$ on $P_k$ (section 5), and
 # node-to-segment (section 4.2, tributary weights: the multiplier is a pressure) on the
-# same meshes, at 10, 20, 40 and 80 elements across the contact width $2a$. The meshes
-# have nodes at the exact edges $x = \pm a$; two more runs per cell move the edges
-# inside an element (`edge_nodes=False`), which shows what the edge's position costs.
+# same meshes, at 10, 20, 40 (and 80 for P1) elements across the contact width $2a$,
+# the whole mesh refined with them. The meshes have nodes at the exact edges
+# $x = \pm a$; two more runs per cell move the edges inside an element
+# (`edge_nodes=False`), which shows what the edge's position costs. The strain energy's
+# limit $E$ comes from Richardson extrapolation of segment-to-segment P2 on each cell
+# type: two independent estimates of one number.
 
 # +
-levels = [10] if args.smoke else [10, 20, 40, 80]
 cells = ["triangle"] if args.smoke else ["triangle", "quadrilateral"]
 degrees = [1] if args.smoke else [1, 2]
-profiles = {}
+tables = {}
 for cell in cells:
     for degree in degrees:
+        levels = [5, 10, 20] if args.smoke else [10, 20, 40] if degree == 2 else [10, 20, 40, 80]
         for method in ("segment-to-segment", "node-to-segment"):
-            for n in levels:
-                keep = n == 20 and cell == "triangle" and degree == 1
-                r = run(HertzCase(method=method, cell=cell, degree=degree, elements_across=n), keep)
-                if keep or (args.smoke and method == "segment-to-segment"):
-                    profiles[(method, cell, degree)] = r
+            case = HertzCase(method=method, cell=cell, degree=degree)
+            table, runs = hertz_convergence(case, levels, comm, log=log)
+            tables[(method, cell, degree)] = (table, runs)
+            records.extend({k: v for k, v in r.items() if k != "functions"} for r in runs)
+references = {}
+for cell in cells:
+    reference_runs = tables[("segment-to-segment", cell, max(degrees))][1]
+    references[cell] = energy_reference(reference_runs)
+    log(
+        f"strain energy limit ({cell}, P{max(degrees)}): {references[cell][0]:.9e}, "
+        f"order {references[cell][1]:.2f}"
+    )
+for (_method, cell, _degree), (table, runs) in tables.items():
+    add_energy_error(table, runs, references[cell][0])
+    log(table.markdown())
+convergence_records = [
+    rec
+    for (method, cell, degree), (table, _) in tables.items()
+    for rec in records_of(
+        table,
+        study="hertz",
+        variant="force control",
+        method=method,
+        multiplier=HertzCase(method=method, degree=degree).multiplier,
+        degree=degree,
+        cell=cell,
+    )
+]
+update_results(out / "convergence.json", convergence_records, study="hertz", ranks=comm.size)
+profiles = {}
+for method in ("segment-to-segment", "node-to-segment"):
+    profiles[(method, "triangle", 1)] = run_case(
+        HertzCase(method=method, elements_across=10 if args.smoke else 20),
+        comm,
+        prefix="demo_hertz_profile_",
+        keep=True,
+    )
 off_node = [] if args.smoke else [(c, n) for c in cells for n in (20, 40)]
 for cell, n in off_node:
     run(HertzCase(cell=cell, elements_across=n, edge_nodes=False))
@@ -177,34 +220,21 @@ if comm.rank == 0:
     fig.tight_layout()
     fig.savefig(out / "hertz_pressure.png", dpi=120)
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for (method, cell, degree), marker in zip(
-        [
-            (m, c, d)
-            for m in ("segment-to-segment", "node-to-segment")
-            for c in cells
-            for d in degrees
-        ],
-        "osD^vx+*",
-        strict=False,
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for ((method, cell, degree), (table, _)), marker in zip(
+        tables.items(), "osD^vx+*", strict=False
     ):
-        study = [
-            r
-            for r in records
-            if (r["method"], r.get("cell"), r.get("degree"), r.get("solver"))
-            == (method, cell, degree, "active-set")
-            and r.get("case", {}).get("edge_nodes")
-        ]
-        if study:
-            ax.loglog(
-                [r["elements_across"] for r in study],
-                [r["pressure_l2_error"] for r in study],
-                marker + ("-" if method[0] == "s" else ":"),
-                label=f"{method}, {cell}, P{degree}",
-            )
-    ax.set_xlabel("elements across the contact width 2a")
-    ax.set_ylabel("relative L2 error of the pressure over [-a, a]")
-    ax.legend(fontsize=6)
+        n = [lv.level for lv in table.levels]
+        style = marker + ("-" if method[0] == "s" else ":")
+        label = f"{method}, {cell}, P{degree}"
+        axes[0].loglog(n, table.errors("pressure_l2"), style, label=label)
+        axes[1].loglog(n, table.errors("energy"), style, label=label)
+    for ax, what in zip(
+        axes, ("relative L2 error of the pressure over [-a, a]", "|E - E_h| / E"), strict=True
+    ):
+        ax.set_xlabel("elements across the contact width 2a")
+        ax.set_ylabel(what)
+    axes[0].legend(fontsize=6)
     fig.tight_layout()
     fig.savefig(out / "hertz_convergence.png", dpi=120)
 
