@@ -8,7 +8,7 @@ segment-to-segment with plain and composite Gauss and Newton-Cotes rules of 1 to
 points; :data:`METHODS`) and every algorithm of
 :class:`~dolfinx_contact_s2s.unilateral.UnilateralContactProblem` (:data:`SOLVERS`:
 active set, SNES VI, penalty at several :math:`\kappa`, augmented Lagrangian) is run
-on the same meshes of two scenes, and its error and wall time recorded:
+on the same meshes of three scenes, and its error and wall time recorded:
 
 - ``"patch"``: the non-matching contact patch test (section 3.2, Figs. 4 and 6;
   :mod:`~dolfinx_contact_s2s.studies.patch_test`), ``10n/7n`` elements along the
@@ -21,6 +21,17 @@ on the same meshes of two scenes, and its error and wall time recorded:
   ``n`` elements across the contact width. Errors: ``pressure_l2`` (relative
   :math:`L^2` over :math:`[-a, a]`), ``a`` and ``p0`` (relative), all read from the
   multiplier (:func:`~dolfinx_contact_s2s.studies.hertz.measure`).
+- ``"fig16"``: the smooth variant of Fig. 16 (:mod:`~dolfinx_contact_s2s.studies.fig16`),
+  the inf-sup model of Fig. 2 with :math:`g_0 = 0` under a cosine top displacement,
+  nested structured quadrilaterals, ``10n/7n`` elements along the contact. It is tied
+  (:class:`~dolfinx_contact_s2s.problem.LinearContactProblem`, solver ``"tied"``), as
+  the study of Fig. 16 solves it: the pressure is compressive everywhere, so the tied
+  solution is the unilateral one and the unilateral solvers have nothing to decide.
+  Errors against the closed-form solution
+  (:class:`~dolfinx_contact_s2s.studies.fig16.SmoothSolution`): ``energy_norm``
+  :math:`\|\mathbf u - \mathbf u_h\|_E / \|\mathbf u\|_E` and ``strain_energy``
+  :math:`|E - E_h|/E`, read from the displacements alone, so every discretization is
+  measured (the two passes and the intermediate surface too).
 
 Wall time: the stages of :attr:`~dolfinx_contact_s2s.problem.LinearContactProblem.timings`
 (``stiffness``, ``contact``, ``system``, ``solve``; largest over the processes), and
@@ -49,8 +60,23 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
+from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.scenes import PatchTestScene, patch_test
-from dolfinx_contact_s2s.studies.blocks import NAMES, block_forms, block_pairs, block_spaces
+from dolfinx_contact_s2s.studies.blocks import (
+    MATERIALS,
+    NAMES,
+    block_forms,
+    block_pairs,
+    block_spaces,
+)
+from dolfinx_contact_s2s.studies.fig16 import (
+    DELTA,
+    SmoothSolution,
+    energy_norm_error,
+    fig16_scene,
+    strain_energy,
+)
+from dolfinx_contact_s2s.studies.fig16 import _bcs as _fig16_bcs
 from dolfinx_contact_s2s.studies.hertz import measure
 from dolfinx_contact_s2s.studies.hertz_study import HertzCase, HertzModel, hertz_model
 from dolfinx_contact_s2s.studies.patch_test import (
@@ -66,15 +92,18 @@ if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.stability import Solvability
 
 __all__ = [
+    "CELLS",
     "ERRORS",
     "METHODS",
     "PRIMARY",
     "SCENES",
     "SOLVERS",
+    "TIED",
     "TIMES",
     "TradeoffRun",
     "cheapest",
     "describe",
+    "fig16_levels",
     "grid",
     "guide",
     "hertz_levels",
@@ -125,12 +154,22 @@ SOLVERS: dict[str, tuple[str, float | None]] = {
     "penalty 1e4": ("penalty", 10000.0),
 }
 
+#: The solver label of the tied solve (:class:`LinearContactProblem`, Fig. 16 only).
+TIED = "tied"
+
 #: The scenes of the study.
-SCENES = ("patch", "hertz")
+SCENES = ("patch", "hertz", "fig16")
+
+#: The default cell of each scene (Fig. 16's meshes are nested structured quadrilaterals).
+CELLS = {"patch": "triangle", "hertz": "triangle", "fig16": "quadrilateral"}
 
 #: The errors of each scene; :data:`PRIMARY` is the one the Pareto front uses.
-ERRORS = {"patch": ("pressure", "stress", "displacement"), "hertz": ("pressure_l2", "a", "p0")}
-PRIMARY = {"patch": "pressure", "hertz": "pressure_l2"}
+ERRORS = {
+    "patch": ("pressure", "stress", "displacement"),
+    "hertz": ("pressure_l2", "a", "p0"),
+    "fig16": ("energy_norm", "strain_energy"),
+}
+PRIMARY = {"patch": "pressure", "hertz": "pressure_l2", "fig16": "energy_norm"}
 
 #: The recorded wall times (s).
 TIMES = ("stiffness", "contact", "system", "solve", "setup", "total")
@@ -144,8 +183,9 @@ class TradeoffRun:
         scene: One of :data:`SCENES`.
         method: A label of :data:`METHODS`.
         degree: Displacement degree (of both bodies).
-        solver: A label of :data:`SOLVERS`.
-        level: ``n``: ``10n/7n`` elements (patch) or ``n`` across the contact (Hertz).
+        solver: A label of :data:`SOLVERS`, or :data:`TIED` (Fig. 16).
+        level: ``n``: ``10n/7n`` elements (patch, Fig. 16) or ``n`` across the contact
+            (Hertz).
         cell: ``"triangle"`` or ``"quadrilateral"``.
     """
 
@@ -165,6 +205,8 @@ class TradeoffRun:
         """Why the run does not apply, or None."""
         if self.options["method"] == "intermediate-surface" and self.degree != 1:
             return "the intermediate surface is for linear surfaces"
+        if (self.scene == "fig16") != (self.solver == TIED):
+            return "Fig. 16 is solved tied, the other scenes by a unilateral solver"
         return None
 
 
@@ -178,11 +220,20 @@ def hertz_levels(level: int) -> int:
     return level
 
 
+def fig16_levels(level: int) -> tuple[int, int]:
+    """Elements along the contact of Fig. 16, lower and upper block (``n`` even: nested)."""
+    return (10 * level, 7 * level)
+
+
 def _max(comm: MPI.Comm, value: float) -> float:
     return comm.allreduce(float(value), op=MPI.MAX)
 
 
-def _problem(a, L, pairs, bcs, solver: str, prefix: str) -> UnilateralContactProblem:
+def _problem(
+    a, L, pairs, bcs, solver: str, prefix: str
+) -> LinearContactProblem | UnilateralContactProblem:
+    if solver == TIED:
+        return LinearContactProblem(a, L, pairs, bcs, petsc_options_prefix=prefix)
     algorithm, kappa = SOLVERS[solver]
     return UnilateralContactProblem(
         a,
@@ -237,7 +288,7 @@ def _run(
     repeats: int,
 ) -> dict:
     """Build and solve ``repeats`` times; errors of the last solve, minimal times."""
-    algorithm, kappa = SOLVERS[run.solver]
+    algorithm, kappa = SOLVERS.get(run.solver, (run.solver, None))
     record: dict[str, typing.Any] = {
         "scene": run.scene,
         "method": run.method,
@@ -246,7 +297,8 @@ def _run(
         "cell": run.cell,
         "solver": run.solver,
         "algorithm": algorithm,
-        "kappa": kappa if kappa is not None else DEFAULT_PENALTY[algorithm],
+        # The penalty factor of the unilateral algorithms; none for the tied solve.
+        "kappa": kappa if kappa is not None else DEFAULT_PENALTY.get(algorithm),
         "level": run.level,
         "ranks": comm.size,
     }
@@ -265,7 +317,8 @@ def _run(
                 total = time.perf_counter() - begin
                 timer.add(comm, problem.timings, total)
                 record["unknowns"] = _unknowns(problem)
-                record["iterations"] = problem.history.iterations
+                history = getattr(problem, "history", None)
+                record["iterations"] = history.iterations if history is not None else 1
                 record["multiplier"] = pairs[0].multiplier_label
                 stage = "measure"
                 errs = measure_errors(problem, pairs)
@@ -398,6 +451,56 @@ def _hertz_run(comm: MPI.Comm, model: HertzModel, run: TradeoffRun, repeats: int
     return record
 
 
+# --- Fig. 16 ------------------------------------------------------------------------
+
+
+@dataclass
+class _Fig16Model:
+    """The smooth Fig. 16 scene at one level: meshes, spaces, forms, conditions."""
+
+    scene: PatchTestScene
+    spaces: dict[str, dolfinx.fem.FunctionSpace]
+    a: list
+    L: list
+    bcs: list
+    exact: SmoothSolution
+
+
+def _fig16_model(comm: MPI.Comm, degree: int, cell: str, level: int) -> _Fig16Model:
+    """What :func:`~dolfinx_contact_s2s.studies.fig16.fig16_problem` builds, but the pairs."""
+    scene = fig16_scene(comm, level, cell)
+    spaces = block_spaces(scene, (degree, degree))
+    exact = SmoothSolution(DELTA, scene.width, scene.height)
+    a = [MATERIALS[name].forms(spaces[name])[0] for name in NAMES]
+    L = []
+    for name in NAMES:
+        zero = dolfinx.fem.Constant(scene.bodies[name].mesh, np.zeros(2))
+        L.append(ufl.inner(zero, ufl.TestFunction(spaces[name])) * ufl.dx)
+    bcs = _fig16_bcs(scene, spaces, "smooth", DELTA, exact)
+    return _Fig16Model(scene, spaces, a, L, bcs, exact)
+
+
+def _fig16_run(comm: MPI.Comm, model: _Fig16Model, run: TradeoffRun, repeats: int) -> dict:
+    exact = model.exact
+    energy, norm = exact.energy, math.sqrt(2 * exact.energy)
+
+    def build():
+        # Upper block the contactor, as in Fig. 16.
+        pairs = block_pairs(model.scene, model.spaces, "upper", **run.options)
+        return pairs, (model.a, model.L, model.bcs)
+
+    def measure_fig16(problem: LinearContactProblem, pairs: list[ContactPair]) -> dict:
+        return {
+            "energy_norm": energy_norm_error(problem, exact) / norm,
+            "strain_energy": abs(energy - strain_energy(problem)) / energy,
+        }
+
+    record = _run(run, comm, build, measure_fig16, repeats)
+    record["elements"] = list(fig16_levels(run.level))
+    record["h"] = model.scene.width / fig16_levels(run.level)[1]
+    return record
+
+
 # --- the study ----------------------------------------------------------------------
 
 
@@ -430,6 +533,8 @@ def run_study(
             scenes.clear()
             if run.scene == "patch":
                 scenes[key] = patch_test(comm, patch_levels(run.level), cell=run.cell)
+            elif run.scene == "fig16":
+                scenes[key] = _fig16_model(comm, run.degree, run.cell, run.level)
             else:
                 case = HertzCase(
                     degree=run.degree, cell=run.cell, elements_across=hertz_levels(run.level)
@@ -437,6 +542,8 @@ def run_study(
                 scenes[key] = hertz_model(case, comm)
         if run.scene == "patch":
             record = _patch_run(comm, scenes[key], run, repeats)
+        elif run.scene == "fig16":
+            record = _fig16_run(comm, scenes[key], run, repeats)
         else:
             record = _hertz_run(comm, scenes[key], run, repeats)
         out.append((i, record))
@@ -519,7 +626,7 @@ def plot(path: Path | str, records: Sequence[dict], scene: str) -> None:
                     for r in rows
                     if _family(r["method"]) == family
                     and r["degree"] == degree
-                    and (r["algorithm"] in ("active-set", "snes-vi")) == lagrange
+                    and (r["algorithm"] in ("active-set", "snes-vi", TIED)) == lagrange
                 ]
                 if not sel:
                     continue
@@ -547,7 +654,7 @@ def plot(path: Path | str, records: Sequence[dict], scene: str) -> None:
         for r in front:
             ax.annotate(
                 f"{r['method']} P{r['degree']} n={r['level']}"
-                + ("" if r["solver"] == "active-set" else f" {r['solver']}"),
+                + ("" if r["solver"] in ("active-set", TIED) else f" {r['solver']}"),
                 (r["seconds"]["total"], max(r["error"], floor)),
                 fontsize=6,
                 xytext=(3, 3),
@@ -662,16 +769,23 @@ def grid(
     methods: Sequence[str],
     solvers: Sequence[str],
     solver_methods: Sequence[str],
-    cell: str = "triangle",
+    cell: str | None = None,
 ) -> list[TradeoffRun]:
-    """Every method with the active set, and every solver with ``solver_methods``."""
+    """Every method with the active set, and every solver with ``solver_methods``.
+
+    Fig. 16 runs every method tied (:data:`TIED`) and no unilateral solver. ``cell``
+    defaults to :data:`CELLS` of each scene.
+    """
     runs = []
     for scene in scenes:
+        first = TIED if scene == "fig16" else "active-set"
         for degree in degrees:
             for level in levels[scene]:
-                base = TradeoffRun(scene, methods[0], degree, "active-set", level, cell)
+                base = TradeoffRun(scene, methods[0], degree, first, level, cell or CELLS[scene])
                 for m in methods:
                     runs.append(replace(base, method=m))
+                if scene == "fig16":
+                    continue
                 for m in solver_methods:
                     for s in solvers:
                         if s != "active-set":
