@@ -70,9 +70,11 @@ __all__ = [
     "REFERENCE_LEVEL",
     "VARIANTS",
     "Fig16Case",
+    "Fig16Model",
     "Reference",
     "SmoothSolution",
     "energy_norm_error",
+    "fig16_model",
     "fig16_problem",
     "fig16_scene",
     "run_case",
@@ -348,6 +350,46 @@ def _bcs(
     return bcs
 
 
+@dataclass
+class Fig16Model:
+    """A Fig. 16 scene at one level, without its contact pairs.
+
+    Attributes:
+        scene: The two blocks.
+        spaces: Displacement space of each block.
+        a: Bilinear form of each block (lower, upper).
+        L: Linear form of each block (zero: the top displacement is the load).
+        bcs: The Dirichlet conditions of the variant.
+        exact: The exact solution of the smooth variant (``None`` for ``"paper"``).
+    """
+
+    scene: PatchTestScene
+    spaces: dict[str, dolfinx.fem.FunctionSpace]
+    a: list[ufl.Form]
+    L: list[ufl.Form]
+    bcs: list[dolfinx.fem.DirichletBC]
+    exact: SmoothSolution | None
+
+
+def fig16_model(
+    comm: MPI.Comm, degree: int, cell: str, variant: str, n: int, *, delta: float = DELTA
+) -> Fig16Model:
+    """The scene, spaces, forms and conditions of ``variant`` at level ``n``."""
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {VARIANTS}, not {variant!r}")
+    scene = fig16_scene(comm, n, cell)
+    spaces = block_spaces(scene, (degree, degree))
+    exact = SmoothSolution(delta, scene.width, scene.height) if variant == "smooth" else None
+    a = [MATERIALS[name].forms(spaces[name])[0] for name in NAMES]
+    L = []
+    for name in NAMES:
+        v = ufl.TestFunction(spaces[name])
+        zero = dolfinx.fem.Constant(scene.bodies[name].mesh, np.zeros(2))
+        L.append(ufl.inner(zero, v) * ufl.dx)
+    bcs = _bcs(scene, spaces, variant, delta, exact)
+    return Fig16Model(scene, spaces, a, L, bcs, exact)
+
+
 def fig16_problem(
     comm: MPI.Comm,
     case: Fig16Case,
@@ -365,29 +407,18 @@ def fig16_problem(
     """
     from dolfinx_contact_s2s.problem import LinearContactProblem
 
-    if variant not in VARIANTS:
-        raise ValueError(f"variant must be one of {VARIANTS}, not {variant!r}")
-    scene = fig16_scene(comm, n, case.cell)
-    spaces = block_spaces(scene, (case.degree, case.degree))
-    exact = SmoothSolution(delta, scene.width, scene.height) if variant == "smooth" else None
-    a = [MATERIALS[name].forms(spaces[name])[0] for name in NAMES]
-    L = []
-    for name in NAMES:
-        v = ufl.TestFunction(spaces[name])
-        zero = dolfinx.fem.Constant(scene.bodies[name].mesh, np.zeros(2))
-        L.append(ufl.inner(zero, v) * ufl.dx)
-    bcs = _bcs(scene, spaces, variant, delta, exact)
-    pairs = block_pairs(scene, spaces, case.contactor, **case.pair_options())
+    model = fig16_model(comm, case.degree, case.cell, variant, n, delta=delta)
+    pairs = block_pairs(model.scene, model.spaces, case.contactor, **case.pair_options())
     problem = LinearContactProblem(
-        a,
-        L,
+        model.a,
+        model.L,
         pairs,
-        bcs,
+        model.bcs,
         petsc_options_prefix=petsc_options_prefix,
         petsc_options=petsc_options,
     )
-    problem.scene = scene  # type: ignore[attr-defined]
-    problem.exact = exact  # type: ignore[attr-defined]
+    problem.scene = model.scene  # type: ignore[attr-defined]
+    problem.exact = model.exact  # type: ignore[attr-defined]
     problem.level = n  # type: ignore[attr-defined]
     return problem
 

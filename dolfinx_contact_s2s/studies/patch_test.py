@@ -45,6 +45,7 @@ __all__ = [
     "errors",
     "exact_displacement",
     "force_transfer",
+    "nodal_pressure",
     "solve_patch_test",
     "stress_component_errors",
 ]
@@ -189,7 +190,7 @@ def solve_patch_test(
             return PatchTestSolution(case, scene, problem.pairs, check, inactive=inactive)
         u, lam = problem.solve()
         forces = dict(zip(NAMES, problem.contact_forces(), strict=True))
-    nodal = {n: _nodal_pressure(scene.bodies[n], forces[n]) for n in NAMES}
+    nodal = {n: nodal_pressure(scene.bodies[n], forces[n]) for n in NAMES}
     displacement = dict(zip(NAMES, u, strict=True))
     for name, f in displacement.items():
         f.name = f"u_{name}"
@@ -201,7 +202,7 @@ def solve_patch_test(
     )
 
 
-def _nodal_pressure(body: Body, force: dolfinx.fem.Function) -> npt.NDArray[np.floating]:
+def nodal_pressure(body: Body, force: dolfinx.fem.Function) -> npt.NDArray[np.floating]:
     r"""Pressure carried by each contact node: its contact force over its consistent load.
 
     The consistent load of a unit pressure is :math:`\int_{\Gamma} \phi_j \, (-\mathbf n)`;

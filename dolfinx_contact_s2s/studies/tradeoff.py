@@ -70,13 +70,11 @@ from dolfinx_contact_s2s.studies.blocks import (
     block_spaces,
 )
 from dolfinx_contact_s2s.studies.fig16 import (
-    DELTA,
-    SmoothSolution,
+    Fig16Model,
     energy_norm_error,
-    fig16_scene,
+    fig16_model,
     strain_energy,
 )
-from dolfinx_contact_s2s.studies.fig16 import _bcs as _fig16_bcs
 from dolfinx_contact_s2s.studies.hertz import measure
 from dolfinx_contact_s2s.studies.hertz_study import HertzCase, HertzModel, hertz_model
 from dolfinx_contact_s2s.studies.patch_test import (
@@ -84,6 +82,7 @@ from dolfinx_contact_s2s.studies.patch_test import (
     PatchTestSolution,
     errors,
     exact_displacement,
+    nodal_pressure,
 )
 from dolfinx_contact_s2s.surface import contact_surface
 from dolfinx_contact_s2s.unilateral import DEFAULT_PENALTY, UnilateralContactProblem
@@ -252,20 +251,6 @@ def _unknowns(problem: UnilateralContactProblem) -> int:
     return n + sum(p.Q.dofmap.index_map.size_global for p in problem.pairs)
 
 
-def _nodal_pressure(V, facet_tags, tag, force) -> np.ndarray:
-    """Contact force over consistent load of a unit pressure at each contact node."""
-    v = ufl.TestFunction(V)
-    n = ufl.FacetNormal(V.mesh)
-    ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=facet_tags)
-    load = dolfinx.fem.assemble_vector(dolfinx.fem.form(ufl.inner(-n, v) * ds(tag)))
-    load.scatter_reverse(dolfinx.la.InsertMode.add)
-    owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-    c = load.array[:owned].reshape(-1, 2)[:, 1]
-    f = force.x.array[:owned].reshape(-1, 2)[:, 1]
-    on = np.abs(c) > 1e-12 * np.max(np.abs(c), initial=1.0)
-    return f[on] / c[on]
-
-
 class _Timer:
     """Minimum over repeats of each stage (largest over the processes)."""
 
@@ -355,19 +340,10 @@ def _patch_run(comm: MPI.Comm, scene: PatchTestScene, run: TradeoffRun, repeats:
 
     def measure_patch(problem: UnilateralContactProblem, pairs: list[ContactPair]) -> dict:
         from dolfinx_contact_s2s.elasticity import stress_function
-        from dolfinx_contact_s2s.studies.blocks import MATERIALS
 
         u = dict(zip(NAMES, problem.u, strict=True))
         forces = dict(zip(NAMES, problem.contact_forces(), strict=True))
-        nodal = {
-            n: _nodal_pressure(
-                u[n].function_space,
-                scene.bodies[n].facet_tags,
-                scene.bodies[n].contact,
-                forces[n],
-            )
-            for n in NAMES
-        }
+        nodal = {n: nodal_pressure(scene.bodies[n], forces[n]) for n in NAMES}
         stress = {n: stress_function(u[n], MATERIALS[n]) for n in NAMES}
         # The released multipliers (none, when every one stays in contact) count as
         # inactive, beside those that carry no constraint.
@@ -454,34 +430,9 @@ def _hertz_run(comm: MPI.Comm, model: HertzModel, run: TradeoffRun, repeats: int
 # --- Fig. 16 ------------------------------------------------------------------------
 
 
-@dataclass
-class _Fig16Model:
-    """The smooth Fig. 16 scene at one level: meshes, spaces, forms, conditions."""
-
-    scene: PatchTestScene
-    spaces: dict[str, dolfinx.fem.FunctionSpace]
-    a: list
-    L: list
-    bcs: list
-    exact: SmoothSolution
-
-
-def _fig16_model(comm: MPI.Comm, degree: int, cell: str, level: int) -> _Fig16Model:
-    """What :func:`~dolfinx_contact_s2s.studies.fig16.fig16_problem` builds, but the pairs."""
-    scene = fig16_scene(comm, level, cell)
-    spaces = block_spaces(scene, (degree, degree))
-    exact = SmoothSolution(DELTA, scene.width, scene.height)
-    a = [MATERIALS[name].forms(spaces[name])[0] for name in NAMES]
-    L = []
-    for name in NAMES:
-        zero = dolfinx.fem.Constant(scene.bodies[name].mesh, np.zeros(2))
-        L.append(ufl.inner(zero, ufl.TestFunction(spaces[name])) * ufl.dx)
-    bcs = _fig16_bcs(scene, spaces, "smooth", DELTA, exact)
-    return _Fig16Model(scene, spaces, a, L, bcs, exact)
-
-
-def _fig16_run(comm: MPI.Comm, model: _Fig16Model, run: TradeoffRun, repeats: int) -> dict:
+def _fig16_run(comm: MPI.Comm, model: Fig16Model, run: TradeoffRun, repeats: int) -> dict:
     exact = model.exact
+    assert exact is not None  # the smooth variant
     energy, norm = exact.energy, math.sqrt(2 * exact.energy)
 
     def build():
@@ -534,7 +485,7 @@ def run_study(
             if run.scene == "patch":
                 scenes[key] = patch_test(comm, patch_levels(run.level), cell=run.cell)
             elif run.scene == "fig16":
-                scenes[key] = _fig16_model(comm, run.degree, run.cell, run.level)
+                scenes[key] = fig16_model(comm, run.degree, run.cell, "smooth", run.level)
             else:
                 case = HertzCase(
                     degree=run.degree, cell=run.cell, elements_across=hertz_levels(run.level)
