@@ -16,7 +16,7 @@ The mesh is graded toward the contact point with a Gmsh ``Distance`` field of th
 contact points and a ``Threshold`` field: size :math:`h = 2a / n` within
 :math:`1.5 a` of the origin (about :math:`n` elements across the contact width
 :math:`2a`), growing linearly to :math:`\min(R_1, R_2, W, D) / 8` (the block's
-:math:`R_2 = \infty`) at a slope of :data:`GRADING`. Quadrilaterals come from
+:math:`R_2 = \infty`; or ``far_size``) at a slope of :data:`GRADING`. Quadrilaterals come from
 recombination (Blossom, of quadrilaterals of quality 0.3 or better, on a mesh of twice
 the size) followed by the split of every cell into quadrilaterals; geometry degree 2
 puts the second-order nodes on the arcs.

@@ -202,7 +202,8 @@ def run_case(
     Returns:
         The record of ``results/hertz.json`` (see the issue): method, multiplier, degree,
         solver, h, elements_across, a, a_exact, a_error, p0, p0_exact, p0_error,
-        pressure_l2_error, iterations, ranks, seconds, and more.
+        pressure_l2_error, iterations, ranks, seconds, and more: the strain energy
+        ``energy`` and the problem's ``timings``.
     """
     begin = time.perf_counter()
     model = hertz_model(case, comm)
