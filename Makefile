@@ -7,7 +7,7 @@ PYTEST  := python3 -m pytest -q -p no:cacheprovider
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
-.PHONY: demo bench test check lint package test-serial test-mpi smoke env clean
+.PHONY: demo bench bench-smoke test check lint package test-serial test-mpi smoke env clean
 
 ## demo: the patch-test, inf-sup, Hertz, Fig. 16 and speed-accuracy studies on 1 and 2 ranks -> results/
 demo:
@@ -22,10 +22,35 @@ demo:
 	$(ENV_RUN) python3 demos/demo_tradeoff.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_tradeoff.py
 
-## bench: the inf-sup test against one solve on a 240,000-unknown scene -> results/bench_infsup.json
+## bench: every performance figure of issue 11 as a ratio measured in one run -> results/bench/*.json,
+## plots and the performance section of results/report.md (about 10-20 minutes on 2 cores)
+BENCH_OUT := results/bench
+BENCH_REQUIRED := p1_coupling p2_share_blocks p2_share_hertz p3_saddle p4_infsup p6_scaling p7_ranks
 bench:
-	$(ENV_RUN) python3 bench/bench_infsup.py
-	$(ENV_RUN) $(MPIRUN) python3 bench/bench_infsup.py
+	$(ENV_RUN) python3 bench/bench_coupling.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_blocks.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_hertz.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_infsup.py --out $(BENCH_OUT)
+	$(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 bench/bench_infsup.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_mpc.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_scaling.py --out $(BENCH_OUT)
+	$(ENV_RUN) $(TIMEOUT) python3 bench/bench_ranks.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_report.py --out $(BENCH_OUT) --require $(BENCH_REQUIRED)
+
+## bench-smoke: every bench script at tiny sizes; checks that every record is complete (not the timings)
+bench-smoke:
+	@echo "== [$(SUITE)] benchmarks, smoke run"
+	@rm -rf build/bench-smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_coupling.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_blocks.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_hertz.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_infsup.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 bench/bench_infsup.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_mpc.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_scaling.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) python3 bench/bench_ranks.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_report.py --out build/bench-smoke-$(SUITE)/bench \
+	    --require $(BENCH_REQUIRED) p4_infsup_np2
 
 ## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie then sid
 test:

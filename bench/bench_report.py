@@ -1,0 +1,185 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""The performance section of the report, from the records of ``make bench``.
+
+Reads every ``results/bench/*.json``, checks that each is complete (every key of
+:data:`~dolfinx_contact_s2s.studies.bench.REQUIRED_KEYS`, a finite positive ratio),
+draws ``results/bench/summary.png`` (each figure's ratio against its goal) and replaces
+the ``bench`` section of ``results/report.md``. Exits with an error when a record is
+incomplete or a figure has no record (``--require``).
+"""
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+from dolfinx_contact_s2s.studies.bench import GOALS, record_problems
+from dolfinx_contact_s2s.studies.report import write_section
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--out", type=Path, default=Path("results/bench"), help="records folder")
+parser.add_argument("--report", type=Path, help="report (default: OUT/../report.md)")
+parser.add_argument("--require", nargs="*", default=[], help="record names that must exist")
+args = parser.parse_args()
+report = args.report or args.out.parent / "report.md"
+
+records = {}
+problems = []
+for path in sorted(args.out.glob("*.json")):
+    record = json.loads(path.read_text())
+    records[path.stem] = record
+    problems += [f"{path.name}: {p}" for p in record_problems(record)]
+problems += [f"no record {name}.json" for name in args.require if name not in records]
+if problems:
+    print("incomplete benchmark records:\n  " + "\n  ".join(problems), file=sys.stderr)
+    sys.exit(1)
+if not records:
+    print(f"no records in {args.out}", file=sys.stderr)
+    sys.exit(1)
+
+
+def seconds(value):
+    """Seconds in the table: 3 significant digits."""
+    return f"{value:.3g}" if isinstance(value, int | float) else "-"
+
+
+def goal_text(name, goal):
+    """``<= 2`` or ``-`` (shares in percent)."""
+    if not goal:
+        return "-"
+    value = f"{goal['value']:.0%}" if name.startswith("p2_") else f"{goal['value']:g}"
+    return f"{goal['op']} {value}"
+
+
+def ratio_text(name, ratio):
+    """The ratio as the issue states it (shares in percent)."""
+    return f"{ratio:.2%}" if name.startswith("p2_") else f"{ratio:.3g}"
+
+
+def met_text(met):
+    """The cell of ``met``: yes, **no** or -."""
+    return "-" if met is None else ("yes" if met else "**no**")
+
+
+def raw_times(record):
+    """The raw times of the ratio: the first two scalars of ``times``."""
+    scalars = [(k, v) for k, v in record["times"].items() if isinstance(v, int | float)]
+    return ", ".join(f"{k.removesuffix('_seconds')} {seconds(v)} s" for k, v in scalars[:2])
+
+
+first = next(iter(records.values()))
+machine, versions = first["machine"], first["versions"]
+smoke = any(r["smoke"] for r in records.values())
+order = sorted(records, key=lambda n: (records[n]["figure"], n))
+lines = [
+    "## Performance (`make bench`)",
+    "",
+    "Every figure is a ratio of two times measured in the same run (never absolute "
+    "seconds as pass or fail). "
+    + ("**Smoke run: tiny sizes, the ratios mean nothing.** " if smoke else "")
+    + f"Machine: {machine['cpu']}, {machine['cores']} cores, "
+    f"{machine['memory_mb'] / 1024:.1f} GB. DOLFINx {versions['dolfinx']}, PETSc "
+    f"{versions['petsc']}, MUMPS {versions['mumps'] or 'unknown'}, BLAS "
+    f"{versions['blas_kind']} ({', '.join(versions['blas']) or 'not mapped'}).",
+    "",
+    "| figure | record | measures | ratio | goal | met | raw times | ranks | peak MB (max / sum) "
+    "| backend |",
+    "|---|---|---|---|---|---|---|---|---|---|",
+]
+for name in order:
+    r = records[name]
+    peak = r["peak_memory"]
+    ranks = r["ranks"] if not isinstance(r["ranks"], list) else "/".join(map(str, r["ranks"]))
+    backend = r["backend"] if isinstance(r["backend"], str) else ", ".join(r["backend"])
+    lines.append(
+        f"| {r['figure']} | `{name}` | {r['title']} | {ratio_text(name, r['ratio'])} | "
+        f"{goal_text(name, r['goal'])} | {met_text(r['met'])} | {raw_times(r)} | {ranks} | "
+        f"{peak['max_mb']:.0f} / {peak['sum_mb']:.0f} | {backend} |"
+    )
+lines += ["", "Definitions of the ratios:", ""]
+lines += [f"- `{n}`: {records[n]['ratio_definition']}" for n in order]
+
+if "p1_coupling" in records:
+    r = records["p1_coupling"]
+    lines += [
+        "",
+        "### P1: coupling throughput against DOLFINx's stiffness assembly",
+        "",
+        "| degree | n | backend | sub-segments/s | cells/s | ratio |",
+        "|---|---|---|---|---|---|",
+    ]
+    for row in r["rows"]:
+        for backend, b in row["backends"].items():
+            lines.append(
+                f"| P{row['degree']} | {row['n']} | {backend} | "
+                f"{b['sub_segments_per_second']:.3g} | {row['cells_per_second']:.3g} | "
+                f"{b['ratio']:.3f} |"
+            )
+    lines += ["", "![P1](bench/p1_coupling.png)"]
+if "p2_share_hertz" in records:
+    r = records["p2_share_hertz"]
+    t = r["times"]
+    lines += [
+        "",
+        f"### P2: Hertz, {r['unknowns']} unknowns, {r['iterations']} semismooth Newton iterations",
+        "",
+        f"Per iteration: {t['per_iteration_contact_seconds']:.3g} s contact-specific of "
+        f"{t['per_iteration_whole_seconds']:.3g} s; the active-set updates took "
+        f"{t['update_seconds']:.3g} s in all, the coupling {t['stages']['contact']:.3g} s "
+        f"(once: the contact is linear), the largest share in one iteration "
+        f"{r['max_iteration_share']:.2%}.",
+    ]
+if "p6_scaling" in records:
+    r = records["p6_scaling"]
+    lines += [
+        "",
+        "### P6: time and memory against unknowns (1 rank)",
+        "",
+        "| solver | unknowns | pipeline (s) | solve (s) | peak MB |",
+        "|---|---|---|---|---|",
+    ]
+    for run in sorted(r["runs"], key=lambda x: (x["solver"], x["unknowns"])):
+        lines.append(
+            f"| {run['solver']} | {run['unknowns']} | {run['times']['pipeline']:.3g} | "
+            f"{run['times']['solve']:.3g} | {run['peak_memory']['max_mb']:.0f} |"
+        )
+    missing = [s for s in ("default", "iterative") if s not in r["solvers"]]
+    if missing:
+        lines += ["", f"Not available in this run: {', '.join(missing)} solver column."]
+    lines += ["", "![P6](bench/p6_scaling.png)"]
+if "p7_ranks" in records:
+    r = records["p7_ranks"]
+    lines += [
+        "",
+        "### P7: stages on 1 against 2 ranks (speed-up per stage)",
+        "",
+        ", ".join(f"{k} {v:.2f}" for k, v in r["stage_speedups"].items()),
+    ]
+if "p5_mpc" not in records:
+    lines += ["", "P5 (dolfinx_mpc's slip constraint beside S2S): no record in this run."]
+lines += ["", "![summary](bench/summary.png)", ""]
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+fig, ax = plt.subplots(figsize=(8, 4))
+names = [n for n in order if GOALS.get(n.split("_np")[0]) is not None]
+for k, name in enumerate(names):
+    r = records[name]
+    goal = r["goal"]["value"]
+    colour = "tab:green" if r["met"] else "tab:red"
+    ax.bar(k, r["ratio"] / goal, color=colour)
+    ax.text(k, r["ratio"] / goal, ratio_text(name, r["ratio"]), ha="center", va="bottom")
+ax.axhline(1.0, color="k", ls=":", lw=0.8)
+ax.set_xticks(range(len(names)), [f"{records[n]['figure']}\n{n}" for n in names], fontsize=7)
+ax.set_ylabel("ratio / goal (green: met)")
+if any(math.isfinite(records[n]["ratio"]) and records[n]["ratio"] > 0 for n in names):
+    ax.set_yscale("log")
+fig.tight_layout()
+fig.savefig(args.out / "summary.png", dpi=120)
+write_section(report, "bench", lines)
+print(f"wrote {report} (bench section) and {args.out / 'summary.png'}")

@@ -1,0 +1,156 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""P6: time and peak memory of the whole pipeline against the number of unknowns.
+
+The two-block scene (:func:`dolfinx_contact_s2s.studies.bench.pipeline`: the inf-sup
+model of Fig. 2, S2S P2) from 10,000 unknowns up, each size in a process of its own so
+that its peak memory (``ru_maxrss``) is its own. Each solver column runs: the problem's
+default (direct, MUMPS) and, when :mod:`dolfinx_contact_s2s.solvers` provides it, the
+iterative saddle-point solver (``--solvers default iterative``; see
+:func:`~dolfinx_contact_s2s.studies.bench.solver_options`). The largest default size,
+1,000,000 unknowns, takes about 3.5 GB with MUMPS LU; ``--sizes`` goes further (LU
+reached 4,000,000 unknowns in 14.2 GB here, issue 11).
+
+The figure (a ratio of this run) is the growth exponent of the time of the default
+solver between the two largest sizes, :math:`\log(t_2/t_1) / \log(N_2/N_1)` (1: linear).
+
+Writes ``results/bench/p6_scaling.json`` and ``p6_scaling.png``.
+"""
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")
+parser.add_argument(
+    "--sizes", type=float, nargs="+", default=[1e4, 3e4, 1e5, 3e5, 1e6], help="unknowns"
+)
+parser.add_argument("--solvers", nargs="+", default=["default", "iterative"])
+parser.add_argument("--degree", type=int, default=2)
+parser.add_argument("--out", type=Path, default=Path("results/bench"))
+parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
+parser.add_argument("--level", type=int, help=argparse.SUPPRESS)
+args = parser.parse_args()
+
+if args.child is not None:
+    # One size, one solver, in this process: write the pipeline's record.
+    from mpi4py import MPI
+
+    from dolfinx_contact_s2s.studies.bench import pipeline
+
+    comm = MPI.COMM_WORLD
+    run = pipeline(
+        comm, args.sizes[0], degree=args.degree, solver=args.solvers[0], level=args.level
+    )
+    if comm.rank == 0:
+        args.child.write_text(json.dumps(run))
+    sys.exit(0)
+
+
+def say(*message):
+    """Progress on the terminal."""
+    print("[P6]", *message, flush=True)
+
+
+present = []
+for solver in args.solvers:
+    if solver == "default":
+        present.append(solver)
+        continue
+    probe = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import sys; from dolfinx_contact_s2s.studies.bench import solver_options; "
+            f"sys.exit(solver_options({solver!r}) is None)",
+        ],
+        check=False,
+    )
+    if probe.returncode == 0:
+        present.append(solver)
+    else:
+        say(f"solver {solver!r} is not available here: its column is left empty")
+runs = []
+smoke_levels = [1, 2]
+sizes = [None, None] if args.smoke else args.sizes
+with tempfile.TemporaryDirectory() as tmp:
+    for solver in present:
+        for k, size in enumerate(sizes):
+            path = Path(tmp) / f"{solver}_{k}.json"
+            command = [sys.executable, __file__, "--child", str(path)]
+            command += ["--solvers", solver, "--degree", str(args.degree)]
+            command += ["--level", str(smoke_levels[k])] if args.smoke else ["--sizes", str(size)]
+            label = f"level {smoke_levels[k]}" if args.smoke else f"{size:.0e} unknowns"
+            say(f"{solver}: {label} ...")
+            done = subprocess.run(command, check=False)
+            if done.returncode != 0:
+                say(f"  {solver} at {label} failed (exit {done.returncode}): the column stops")
+                break
+            run = json.loads(path.read_text())
+            runs.append(run)
+            t = run["times"]
+            say(
+                f"  {run['unknowns']} unknowns: pipeline {t['pipeline']:.2f} s "
+                f"(solve {t['solve']:.2f} s), peak {run['peak_memory']['max_mb']:.0f} MB"
+            )
+
+from mpi4py import MPI  # noqa: E402 (after the children: this process stays light)
+
+from dolfinx_contact_s2s.studies.bench import make_record, write_record  # noqa: E402
+
+comm = MPI.COMM_WORLD
+default = sorted((r for r in runs if r["solver"] == "default"), key=lambda r: r["unknowns"])
+if len(default) < 2:
+    raise SystemExit("P6 needs at least two sizes of the default solver")
+(n1, t1), (n2, t2) = ((r["unknowns"], r["times"]["pipeline"]) for r in default[-2:])
+m1, m2 = (r["peak_memory"]["max_mb"] for r in default[-2:])
+exponent = math.log(t2 / t1) / math.log(n2 / n1)
+record = make_record(
+    "p6_scaling",
+    comm,
+    figure="P6",
+    title="time and peak memory against unknowns (growth exponent of the time)",
+    backend=sorted({r["backend"] for r in runs}),
+    times={"largest_seconds": t2, "second_largest_seconds": t1},
+    ratio=exponent,
+    smoke=args.smoke,
+    ratio_definition="log(t(N2) / t(N1)) / log(N2 / N1) of the default solver's pipeline, "
+    "N1 < N2 the two largest sizes",
+    ranks=1,
+    peak={
+        "max_mb": max(r["peak_memory"]["max_mb"] for r in runs),
+        "sum_mb": max(r["peak_memory"]["sum_mb"] for r in runs),
+    },
+    memory_exponent=math.log(m2 / m1) / math.log(n2 / n1),
+    solvers=present,
+    runs=runs,
+)
+write_record(args.out, record, comm)
+say(f"P6: time grows like N^{exponent:.2f}, memory like N^{record['memory_exponent']:.2f}")
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4))
+for solver in present:
+    sel = sorted((r for r in runs if r["solver"] == solver), key=lambda r: r["unknowns"])
+    n = [r["unknowns"] for r in sel]
+    ax.loglog(n, [r["times"]["pipeline"] for r in sel], "o-", label=f"{solver}: pipeline")
+    ax.loglog(n, [r["times"]["solve"] for r in sel], "s--", label=f"{solver}: solve")
+    bx.loglog(n, [r["peak_memory"]["max_mb"] for r in sel], "o-", label=solver)
+ax.set_xlabel("unknowns")
+ax.set_ylabel("time (s)")
+ax.legend(fontsize=7)
+bx.set_xlabel("unknowns")
+bx.set_ylabel("peak memory (MB)")
+bx.legend(fontsize=7)
+fig.suptitle("P6: two blocks, S2S P2, 1 rank")
+fig.tight_layout()
+fig.savefig(args.out / "p6_scaling.png", dpi=120)
