@@ -28,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import datetime
 import importlib
+import importlib.metadata
 import json
 import math
 import os
@@ -146,11 +147,16 @@ def _mapped_libraries(*patterns: str) -> list[str]:
 
 
 def _module_version(name: str) -> str | None:
+    """A module's ``__version__``, else its distribution's version; None if absent."""
     try:
         module = importlib.import_module(name)
     except ImportError:
         return None
-    return str(getattr(module, "__version__", "unknown"))
+    version = getattr(module, "__version__", None)
+    if version is None:
+        with contextlib.suppress(importlib.metadata.PackageNotFoundError):
+            version = importlib.metadata.version(name)
+    return str(version) if version is not None else "unknown"
 
 
 def versions() -> dict[str, typing.Any]:
