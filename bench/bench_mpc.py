@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""P5: the patch test by dolfinx_mpc's contact slip constraint beside composite S2S.
+r"""P5: the patch test by dolfinx_mpc's contact slip constraint beside composite S2S.
 
 The nearest thing DOLFINx users have today to tied frictionless contact between
 non-matching meshes is dolfinx_mpc's slip condition between two facet sets
@@ -10,15 +10,15 @@ solved by ``dolfinx_mpc.LinearProblem``. Both methods solve the same patch test 
 3.2, Figs. 4 and 6) on the same meshes: two blocks in one mesh
 (:func:`~dolfinx_contact_s2s.scenes_multi.two_blocks_one_mesh`, triangles, 10k and 7k
 elements along the contact line, different materials), rollers, a pressure :math:`p` on
-top. The exact solution is :math:`\\sigma_{yy} = -p`, :math:`\\sigma_{xx} =
-\\sigma_{xy} = 0` and a contact pressure :math:`p`.
+top. The exact solution is :math:`\sigma_{yy} = -p`, :math:`\sigma_{xx} =
+\sigma_{xy} = 0` and a contact pressure :math:`p`.
 
 Measured at each size, both methods on the same mesh and space:
 
-- the stress error :math:`\\max |\\sigma - \\sigma_{exact}| / p` over both bodies, and
+- the stress error :math:`\max |\sigma - \sigma_{exact}| / p` over both bodies, and
   over the cells along the contact surface of the upper body (the contact pressure
-  :math:`-\\sigma_{yy}` there), for both; for S2S also the multiplier's
-  :math:`\\max |\\lambda - p| / p`;
+  :math:`-\sigma_{yy}` there), for both; for S2S also the multiplier's
+  :math:`\max |\lambda - p| / p`;
 - the time of each: constraint or contact pair set-up, assembly and solve (MUMPS LU),
   after a warm-up of both on a tiny mesh (Numba and form compilation excluded).
 
@@ -50,7 +50,6 @@ import numpy as np  # noqa: E402
 import ufl  # noqa: E402
 
 from dolfinx_contact_s2s import contact_pair, contact_surface  # noqa: E402
-from dolfinx_contact_s2s.elasticity import Material  # noqa: E402
 from dolfinx_contact_s2s.problem import LinearContactProblem  # noqa: E402
 from dolfinx_contact_s2s.scenes_multi import two_blocks_one_mesh  # noqa: E402
 from dolfinx_contact_s2s.studies.bench import (  # noqa: E402
