@@ -36,7 +36,7 @@ from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")
 parser.add_argument("--elements-across", type=int, default=200)
-parser.add_argument("--far-size", type=float, default=0.0053, help="element size far away")
+parser.add_argument("--far-size", type=float, default=0.0051, help="element size far away")
 parser.add_argument("--out", type=Path, default=Path("results/bench"))
 args = parser.parse_args()
 comm = MPI.COMM_WORLD
