@@ -50,8 +50,6 @@ KEYS = {
 
 HAS_MPC = importlib.util.find_spec("dolfinx_mpc") is not None
 
-pytestmark = pytest.mark.skip_in_parallel
-
 
 @pytest.fixture(scope="module")
 def smoke_run(tmp_path_factory):
@@ -75,6 +73,7 @@ def smoke_run(tmp_path_factory):
     return out, failures
 
 
+@pytest.mark.skip_in_parallel
 @pytest.mark.parametrize("script", sorted(SCRIPTS))
 def test_bench_script_writes_complete_records(smoke_run, script):
     if script == "bench_mpc.py" and not HAS_MPC:
@@ -111,6 +110,7 @@ def test_bench_script_writes_complete_records(smoke_run, script):
             assert record["met"] is expected
 
 
+@pytest.mark.skip_in_parallel
 def test_bench_ranks_record_both_runs(smoke_run):
     out, failures = smoke_run
     assert "bench_ranks.py" not in failures, failures.get("bench_ranks.py")
@@ -124,6 +124,7 @@ def test_bench_ranks_record_both_runs(smoke_run):
     assert math.isclose(record["ratio"], t["one_rank_seconds"] / t["two_ranks_seconds"])
 
 
+@pytest.mark.skip_in_parallel
 def test_bench_report_section(smoke_run):
     out, failures = smoke_run
     assert not failures, failures
@@ -146,6 +147,7 @@ def test_bench_report_section(smoke_run):
     assert (out / "summary.png").stat().st_size > 0
 
 
+@pytest.mark.skip_in_parallel
 def test_bench_report_refuses_an_incomplete_record(tmp_path):
     if MPI.COMM_WORLD.size > 1:
         pytest.skip("launches its own processes")
@@ -161,3 +163,30 @@ def test_bench_report_refuses_an_incomplete_record(tmp_path):
     )
     assert done.returncode != 0
     assert "missing key 'machine'" in done.stderr and "not finite" in done.stderr
+
+
+@pytest.mark.parametrize("level", [1, 2])
+def test_two_blocks_unknowns(level):
+    """The benchmark scene's unknowns, counted from its meshes by hand (P2 quadrilaterals).
+
+    The lower block has 10 n x 5 n cells, the upper one 7 n x round(3.5 n): (2 nx + 1)
+    (2 ny + 1) nodes of two displacements each; the P2 multiplier on the upper block's
+    bottom has 2 (7 n) + 1 nodes. K alone (contact replaced by Dirichlet conditions) has
+    the same displacements and no multipliers.
+    """
+    from dolfinx_contact_s2s.studies.bench import two_blocks, two_blocks_level
+
+    comm = MPI.COMM_WORLD
+    model = two_blocks(comm, level, degree=2)
+    displacements = 2 * ((20 * level + 1) * (10 * level + 1))
+    displacements += 2 * ((14 * level + 1) * (2 * round(3.5 * level) + 1))
+    assert model.elements == (10 * level, 7 * level)
+    assert model.unknowns == displacements + 14 * level + 1
+    assert two_blocks_level(model.unknowns) == level
+    dirichlet = model.dirichlet_problem()
+    try:
+        dirichlet.assemble()
+        assert dirichlet.A.getSize() == (displacements, displacements)
+    finally:
+        dirichlet.destroy()
+        model.problem.destroy()
