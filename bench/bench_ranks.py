@@ -33,15 +33,17 @@ args = parser.parse_args()
 if args.child is not None:
     from mpi4py import MPI
 
-    from dolfinx_contact_s2s.studies.bench import pipeline
+    from dolfinx_contact_s2s.studies.bench import Progress, pipeline
 
     comm = MPI.COMM_WORLD
+    progress = Progress(comm, f"P7, {comm.size} rank(s)")
     run = pipeline(
         comm,
         args.unknowns,
         degree=args.degree,
         solver=args.solver,
         level=1 if args.smoke else None,
+        log=progress,
     )
     if comm.rank == 0:
         args.child.write_text(json.dumps(run))

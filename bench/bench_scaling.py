@@ -41,11 +41,17 @@ if args.child is not None:
     # One size, one solver, in this process: write the pipeline's record.
     from mpi4py import MPI
 
-    from dolfinx_contact_s2s.studies.bench import pipeline
+    from dolfinx_contact_s2s.studies.bench import Progress, pipeline
 
     comm = MPI.COMM_WORLD
+    progress = Progress(comm, f"P6, {comm.size} rank(s)")
     run = pipeline(
-        comm, args.sizes[0], degree=args.degree, solver=args.solvers[0], level=args.level
+        comm,
+        args.sizes[0],
+        degree=args.degree,
+        solver=args.solvers[0],
+        level=args.level,
+        log=progress,
     )
     if comm.rank == 0:
         args.child.write_text(json.dumps(run))

@@ -578,6 +578,7 @@ def pipeline(
     degree: int = 2,
     solver: str = "default",
     level: int | None = None,
+    log: Callable[..., None] | None = None,
 ) -> dict[str, typing.Any]:
     """The whole pipeline on the two-block scene: set up, assemble and solve (collective).
 
@@ -587,6 +588,7 @@ def pipeline(
         degree: Displacement degree.
         solver: A name of :func:`solver_options`.
         level: The level itself, instead of ``unknowns``.
+        log: Progress printer (e.g. a :class:`Progress`), called on every process.
 
     Returns:
         ``unknowns``, ``level``, ``backend``, ``solver_used``, ``times`` (s, slowest
@@ -595,9 +597,12 @@ def pipeline(
         ``peak_memory`` (:func:`peak_memory`).
     """
     level = two_blocks_level(unknowns, degree) if level is None else level
+    say = log or (lambda *message: None)
+    say(f"level {level}, P{degree}, solver {solver!r}: meshing and setting up")
     model = two_blocks(comm, level, degree=degree, solver=solver, prefix="bench_pipeline_")
     problem = model.problem
     try:
+        say(f"{model.unknowns} unknowns: assembling and solving")
         _, t = timed(comm, problem.solve)
         stages = {k: comm.allreduce(v, op=MPI.MAX) for k, v in problem.timings.items()}
         times = dict(model.times)
