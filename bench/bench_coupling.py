@@ -10,7 +10,9 @@ P1 and P2 displacements (and geometry of the same degree), at each ``n``:
   (search, facet geometry, composite integration of Eq. 40 and insertion into PETSc),
   per sub-segment of the composite rule, for every kernel backend present;
 - the stiffness: the wall time of :func:`dolfinx.fem.petsc.assemble_matrix` of the
-  elasticity forms of both strips (the matrix created and assembled), per cell.
+  elasticity forms of both strips into their existing matrices, per cell (the time with
+  the matrices' creation, sparsity and preallocation, is recorded beside it: the
+  coupling always creates its matrix, so the headline ratio is the stricter one).
 
 The figure is the coupling's throughput (sub-segments per second) over the stiffness
 assembly's (cells per second), both from this run; the goal is >= 1 (a facet of contact
@@ -98,8 +100,8 @@ def measure(degree, n):
     cells = sum(comm.allreduce(spaces[b].mesh.topology.index_map(2).size_local) for b in NAMES)
     forms = [dolfinx.fem.form(MATERIALS[b].forms(spaces[b])[0]) for b in NAMES]
 
-    def stiffness():
-        """DOLFINx's assembly of both strips' stiffness (matrices created and assembled)."""
+    def create():
+        """DOLFINx's assembly of both strips' stiffness, the matrices created (sparsity)."""
         out = []
         for a in forms:
             K = dolfinx.fem.petsc.assemble_matrix(a)
@@ -107,7 +109,15 @@ def measure(degree, n):
             out.append(K)
         return out
 
-    Ks, t_stiffness = best(stiffness, repeat)
+    def assemble():
+        """DOLFINx's assembly into the existing matrices (what every new assembly costs)."""
+        for K, a in zip(Ks, forms, strict=True):
+            K.zeroEntries()
+            dolfinx.fem.petsc.assemble_matrix(K, a)
+            K.assemble()
+
+    Ks, t_create = best(create, 1)
+    _, t_stiffness = best(assemble, repeat)
     for K in Ks:
         K.destroy()
     row = {
@@ -117,9 +127,13 @@ def measure(degree, n):
         "cells": cells,
         "stiffness_seconds": t_stiffness,
         "cells_per_second": cells / t_stiffness,
+        "stiffness_with_creation_seconds": t_create,
         "backends": {},
     }
-    log(f"  stiffness: {cells} cells in {t_stiffness:.3f} s ({cells / t_stiffness:.3g}/s)")
+    log(
+        f"  stiffness: {cells} cells in {t_stiffness:.3f} s ({cells / t_stiffness:.3g}/s); "
+        f"{t_create:.3f} s with the matrix's creation"
+    )
     for name in present:
         (surfaces, pair), t_setup = timed(
             comm, lambda name=name: surfaces_and_pair(scene, spaces, degree, name)
@@ -144,6 +158,7 @@ def measure(degree, n):
             "sub_segments": segments,
             "sub_segments_per_second": segments / t_coupling,
             "ratio": (segments / t_coupling) / (cells / t_stiffness),
+            "ratio_with_creation": (segments / t_coupling) / (cells / t_create),
         }
         row["backends"][name] = entry
         log(
@@ -181,7 +196,7 @@ record = make_record(
     smoke=args.smoke,
     ratio_definition=(
         "min over degree and n of (sub_segments / t_assemble_coupling) / "
-        "(cells / t_assemble_matrix)"
+        "(cells / t_assemble_matrix into the existing matrices)"
     ),
     backends_present=present,
     worst_case={"degree": worst["degree"], "n": worst["n"]},
