@@ -213,19 +213,32 @@ if comm.rank == 0:
     import matplotlib.pyplot as plt
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4))
-    for degree in args.degrees:
+    for k, degree in enumerate(args.degrees):
+        colour = f"C{k}"
         sel = [r for r in rows if r["degree"] == degree]
         ns = [r["n"] for r in sel]
-        ax.loglog(ns, [r["cells_per_second"] for r in sel], "s--", label=f"P{degree} stiffness")
-        for name in present:
+        ax.loglog(
+            ns,
+            [r["cells_per_second"] for r in sel],
+            "s--",
+            color=colour,
+            label=f"P{degree} stiffness (cells/s)",
+        )
+        for j, name in enumerate(present):
+            style = ["o-", "^-", "v-"][j % 3]
             ax.loglog(
                 ns,
                 [r["backends"][name]["sub_segments_per_second"] for r in sel],
-                "o-",
-                label=f"P{degree} coupling [{name}]",
+                style,
+                color=colour,
+                label=f"P{degree} coupling [{name}] (sub-segments/s)",
             )
             bx.semilogx(
-                ns, [r["backends"][name]["ratio"] for r in sel], "o-", label=f"P{degree} [{name}]"
+                ns,
+                [r["backends"][name]["ratio"] for r in sel],
+                style,
+                color=colour,
+                label=f"P{degree} [{name}]",
             )
     ax.set_xlabel("contactor facets n")
     ax.set_ylabel("per second (cells or sub-segments)")
