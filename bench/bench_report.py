@@ -98,6 +98,14 @@ for name in order:
         f"{goal_text(name, r['goal'])} | {met_text(r['met'])} | {raw_times(r)} | {ranks} | "
         f"{peak['max_mb']:.0f} / {peak['sum_mb']:.0f} | {backend} |"
     )
+loads = [r["load_average"][1] for r in records.values() if "load_average" in r]
+if loads and max(loads) > 1.5 * machine["cores"]:
+    lines += [
+        "",
+        f"**Noisy run**: the 5-minute load average reached {max(loads):.1f} on "
+        f"{machine['cores']} cores (other processes competed for them); ratios whose two "
+        "times were taken minutes apart, or on 1 against 2 ranks (P7), suffer most.",
+    ]
 lines += ["", "Definitions of the ratios:", ""]
 lines += [f"- `{n}`: {records[n]['ratio_definition']}" for n in order]
 

@@ -399,6 +399,8 @@ def make_record(
         "goal": goal,
         "met": goal_met(goal, ratio) if math.isfinite(ratio) else False,
         "smoke": bool(smoke),
+        # Other processes competing for the cores make the times noisy: 1, 5 and 15 min.
+        "load_average": list(os.getloadavg()),
     }
     record.update(extra)
     return record
