@@ -140,25 +140,9 @@ def sub_segments(
     """
     C, cs, ts = contactor.data, contactor, target
     ic, it = candidates(cs.bounding_boxes(C), ts, T, radius)
-
-    half = np.full(ic.size, 0.5)
-    n_c = cs.outward_normals(C, ic, half)
-    n_t = ts.outward_normals(T, it, half)
-    facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
-    ic, it, n_c = ic[facing], it[facing], n_c[facing]
-
-    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
-    _, xa, _ = ts.evaluate(T, it, np.zeros(it.size))
-    _, xb, _ = ts.evaluate(T, it, np.ones(it.size))
-    xi_a = cs.project(C, ic, xa)
-    xi_b = cs.project(C, ic, xb)
-    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
-    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
-    # Normal distance from the sub-segment's middle to the target facet.
-    _, xm, _ = cs.evaluate(C, ic, 0.5 * (lo + hi))
-    _, xt, _ = ts.evaluate(T, it, np.full(it.size, 0.5))
-    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
-    keep = (hi - lo > 1e-12) & near
+    lo, hi, keep = cs.backend.clip_segments(
+        C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it, radius, 1e-12
+    )
     return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
 
 
