@@ -321,8 +321,9 @@ class ContactSurface:
     def bounding_boxes(self, data: SurfaceData, samples: int = 5) -> npt.NDArray[np.floating]:
         """Axis-aligned boxes ``(num_facets, 2, gdim)`` of the facets, from sample points.
 
-        The boxes are padded by a quarter of each facet's size, which covers the
-        deviation of a quadratic facet from its sample points.
+        The boxes of curved facets are padded by a quarter of each facet's size, which
+        covers the deviation of a quadratic facet from its sample points; those of
+        straight facets are exact.
         """
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 

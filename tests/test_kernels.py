@@ -287,3 +287,23 @@ def test_no_slivers_between_coinciding_nodes(kernel_backend):
     # The kept pieces tile every contactor facet.
     lengths = np.bincount(ic[keep], weights=(hi - lo)[keep], minlength=n)
     np.testing.assert_allclose(lengths, 1.0, atol=1e-8)
+
+
+@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)
+def test_coo_to_csr_against_scipy(kernel_backend):
+    """Duplicates summed, columns sorted: the CSR matrix SciPy builds from the same COO."""
+    scipy_sparse = pytest.importorskip("scipy.sparse")
+    rng = np.random.default_rng(4)
+    rows = rng.integers(0, 40, 3000)
+    cols = rng.integers(0, 90, 3000)
+    values = rng.normal(size=3000)
+    indptr, indices, data = kernel_backend.coo_to_csr(50, rows, cols, values)
+    ref = scipy_sparse.coo_matrix((values, (rows, cols)), shape=(50, 90)).tocsr()
+    ref.sum_duplicates()
+    ref.sort_indices()
+    np.testing.assert_array_equal(indptr, ref.indptr)
+    np.testing.assert_array_equal(indices, ref.indices)
+    np.testing.assert_allclose(data, ref.data, rtol=1e-14, atol=1e-14)
+    empty = kernel_backend.coo_to_csr(3, np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0))
+    np.testing.assert_array_equal(empty[0], np.zeros(4))
+    assert empty[1].size == empty[2].size == 0

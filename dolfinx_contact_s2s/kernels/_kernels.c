@@ -311,12 +311,70 @@ void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, 
         hi[g] = fmax(hi[g], x[g]);
       }
     }
+    /* Samples bound a straight facet exactly; a curved one may bulge between them. */
     double d0 = hi[0] - lo[0], d1 = hi[1] - lo[1];
-    double p = pad * sqrt(d0 * d0 + d1 * d1);
+    double p = s2s_straight(cf, M) ? 0.0 : pad * sqrt(d0 * d0 + d1 * d1);
     double *o = out + (int64_t)f * 4;
     o[0] = lo[0] - p;
     o[1] = lo[1] - p;
     o[2] = hi[0] + p;
     o[3] = hi[1] + p;
   }
+}
+
+/* Sum duplicate (row, col) entries into CSR with sorted columns; returns the number of
+ * nonzeros. rows are local (0 <= row < nrows); work holds n + nrows + 1 int64. */
+int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
+                       const double *values, int64_t *indptr, int64_t *indices, double *data)
+{
+  for (int64_t r = 0; r <= nrows; ++r)
+    indptr[r] = 0;
+  for (int64_t e = 0; e < n; ++e)
+    indptr[rows[e] + 1]++;
+  for (int64_t r = 0; r < nrows; ++r)
+    indptr[r + 1] += indptr[r];
+  /* Scatter into row buckets (indptr[r] advances to the bucket's end, then is shifted back). */
+  for (int64_t e = 0; e < n; ++e)
+  {
+    int64_t k = indptr[rows[e]]++;
+    indices[k] = cols[e];
+    data[k] = values[e];
+  }
+  for (int64_t r = nrows; r > 0; --r)
+    indptr[r] = indptr[r - 1];
+  indptr[0] = 0;
+  /* Sort each row by column (insertion sort: rows are short), sum duplicates, compact. */
+  int64_t out = 0;
+  for (int64_t r = 0; r < nrows; ++r)
+  {
+    int64_t begin = indptr[r], end = indptr[r + 1];
+    for (int64_t a = begin + 1; a < end; ++a)
+    {
+      int64_t c = indices[a];
+      double v = data[a];
+      int64_t b = a - 1;
+      while (b >= begin && indices[b] > c)
+      {
+        indices[b + 1] = indices[b];
+        data[b + 1] = data[b];
+        --b;
+      }
+      indices[b + 1] = c;
+      data[b + 1] = v;
+    }
+    indptr[r] = out;
+    for (int64_t a = begin; a < end; ++a)
+    {
+      if (a > begin && indices[a] == indices[out - 1])
+        data[out - 1] += data[a];
+      else
+      {
+        indices[out] = indices[a];
+        data[out] = data[a];
+        ++out;
+      }
+    }
+  }
+  indptr[nrows] = out;
+  return out;
 }

@@ -36,6 +36,7 @@ __all__ = [
     "cache_dir",
     "cell_normals",
     "clip_segments",
+    "coo_to_csr",
     "evaluate",
     "facet_basis",
     "facet_coefficients",
@@ -73,6 +74,8 @@ void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation,
                        double min_length, double round_off, int iterations, double tol,
                        double *lo, double *hi, int8_t *keep);
 void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, double *out);
+int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
+                       const double *values, int64_t *indptr, int64_t *indices, double *data);
 """
 
 #: Compiler flags; no contraction into fused multiply-adds, so the results round
@@ -396,3 +399,25 @@ def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
     out = np.empty((F, 2, 2))
     lib.s2s_bounding_boxes(_ptr(ffi, c), M, F, int(samples), float(pad), _ptr(ffi, out))
     return out
+
+
+def coo_to_csr(
+    num_rows: int, rows: npt.NDArray[np.int64], cols: npt.NDArray[np.int64], values: _Array
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], _Array]:
+    """See :func:`~dolfinx_contact_s2s.kernels.numpy_backend.coo_to_csr`."""
+    ffi, lib = _lib()
+    rows = np.ascontiguousarray(rows, dtype=np.int64)
+    cols = np.ascontiguousarray(cols, dtype=np.int64)
+    values = _f64(values)
+    n = rows.size
+    if n and (rows.min() < 0 or rows.max() >= num_rows):
+        raise ValueError("row index out of range")
+    indptr = np.empty(num_rows + 1, dtype=np.int64)
+    indices = np.empty(n, dtype=np.int64)
+    data = np.empty(n)
+    nnz = lib.s2s_coo_to_csr(
+        num_rows, n, _ptr(ffi, rows, "int64_t *"), _ptr(ffi, cols, "int64_t *"),
+        _ptr(ffi, values), _ptr(ffi, indptr, "int64_t *"), _ptr(ffi, indices, "int64_t *"),
+        _ptr(ffi, data),
+    )  # fmt: skip
+    return indptr, indices[:nnz].copy(), data[:nnz].copy()

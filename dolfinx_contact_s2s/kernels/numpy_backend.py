@@ -25,6 +25,7 @@ __all__ = [
     "bounding_boxes",
     "cell_normals",
     "clip_segments",
+    "coo_to_csr",
     "evaluate",
     "facet_basis",
     "facet_coefficients",
@@ -336,12 +337,16 @@ def clip_segments(
 
 
 def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
-    """Axis-aligned boxes of 2D facets from equispaced sample points, padded.
+    """Axis-aligned boxes of 2D facets from equispaced sample points.
+
+    The samples bound a straight facet (higher coefficients exactly zero) exactly; the
+    box of a curved facet is padded to cover its bulge between samples.
 
     Args:
         coefficients: Facet coefficients, ``(F, p + 1, 2)``.
         samples: Sample points per facet (both ends included).
-        pad: Each box grows by ``pad`` times its diagonal in every direction.
+        pad: The box of a curved facet grows by ``pad`` times its diagonal in every
+            direction.
 
     Returns:
         Lower and upper corners, ``(F, 2, 2)``.
@@ -352,4 +357,31 @@ def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
     x = evaluate(coefficients, rows, xi)[0].reshape(n, samples, 2)
     lo, hi = x.min(axis=1, initial=np.inf), x.max(axis=1, initial=-np.inf)
     width = np.sqrt(np.sum((hi - lo) ** 2, axis=1))[:, None]
+    width[np.all(coefficients[:, 2:] == 0.0, axis=(1, 2))] = 0.0
     return np.stack([lo - pad * width, hi + pad * width], axis=1)
+
+
+def coo_to_csr(
+    num_rows: int, rows: npt.NDArray[np.int64], cols: npt.NDArray[np.int64], values: _Array
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], _Array]:
+    """Sum the entries ``values`` at ``(rows, cols)`` into a CSR matrix with sorted columns.
+
+    Args:
+        num_rows: Number of rows; ``0 <= rows < num_rows``.
+        rows: Row of each entry, ``(n,)``.
+        cols: Column of each entry (nonnegative), ``(n,)``.
+        values: The entries, ``(n,)``; duplicates are summed.
+
+    Returns:
+        ``(indptr, indices, data)``.
+    """
+    rows = np.asarray(rows, dtype=np.int64)
+    cols = np.asarray(cols, dtype=np.int64)
+    if rows.size and (rows.min() < 0 or rows.max() >= num_rows):
+        raise ValueError("row index out of range")
+    width = int(cols.max(initial=-1)) + 1
+    keys, inverse = np.unique(rows * width + cols, return_inverse=True)
+    data = np.bincount(inverse.reshape(-1), weights=values, minlength=keys.size)
+    local_rows, indices = np.divmod(keys, max(width, 1))
+    indptr = np.searchsorted(local_rows, np.arange(num_rows + 1)).astype(np.int64)
+    return indptr, indices.astype(np.int64), data
