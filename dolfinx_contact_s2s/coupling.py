@@ -40,7 +40,7 @@ import numpy.typing as npt
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
 from dolfinx_contact_s2s.quadrature import RULES, interval_rule
 from dolfinx_contact_s2s.search import SubSegments, box_pairs, default_search_radius, sub_segments
-from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
 
 __all__ = [
     "METHODS",
@@ -226,6 +226,10 @@ class ContactPair:
         self.Q = self.multiplier.Q
         self.multiplier_element = self.multiplier.element
         self.submesh = self.Q.mesh
+        # The multiplier basis H^k (Eq. 42) as polynomials in its cell's parameter s.
+        self._multiplier_table = facet_monomials(
+            self.multiplier_element, np.zeros((1, 1)), np.ones((1, 1))
+        )
         gathered = [t.gather() for t in targets] if discretization.nodal else []
         self.duplicates = discretization.duplicates(self, gathered)
 
@@ -265,18 +269,20 @@ class ContactPair:
         rows_t = np.repeat(g.target, nq)
         xi = np.ascontiguousarray(g.xi.reshape(-1))
 
-        X_c, x_c, _ = cs.evaluate(C, rows_c, xi)
-        normals = -cs.outward_normals(C, rows_c, xi)
-        eta = np.clip(ts.intersect(T, rows_t, x_c, normals), 0.0, 1.0)
-        X_t, x_t, _ = ts.evaluate(T, rows_t, eta)
+        kernels = cs.backend
+        x_c, _ = kernels.evaluate(C.coefficients, rows_c, xi)
+        normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
+        eta = kernels.intersect(T.coefficients, rows_t, x_c, normals)
+        np.clip(eta, 0.0, 1.0, out=eta)
+        x_t, _ = kernels.evaluate(T.coefficients, rows_t, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
         s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)
-        mu = tabulate(self.multiplier_element, 0, s_sub[:, None])[0]
+        mu = kernels.facet_basis(self._multiplier_table, np.zeros(s_sub.size, np.int32), s_sub)
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
-        phi_c, phi_t = cs.basis(X_c), ts.basis(X_t)
-        b_c, b_t, gap = cs.backend.segment_to_segment(
+        phi_c, phi_t = cs.facet_basis(C, rows_c, xi), ts.facet_basis(T, rows_t, eta)
+        b_c, b_t, gap = kernels.segment_to_segment(
             mu,
             phi_c.reshape(S, nq, phi_c.shape[1]),
             phi_t.reshape(S, nq, phi_t.shape[1]),

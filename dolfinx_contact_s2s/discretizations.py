@@ -270,8 +270,9 @@ class SegmentToSegment(Discretization):
             seg = sub_segments(cs, target, T, pair.search_radius)
             length = seg.hi - seg.lo
             xi = seg.lo[:, None] + length[:, None] * s_ref[None, :]
-            _, _, dx = cs.evaluate(C, np.repeat(seg.contactor, s_ref.size), xi.reshape(-1))
-            jac = np.linalg.norm(dx, axis=1).reshape(xi.shape)
+            rows = np.repeat(seg.contactor, s_ref.size)
+            _, dx = cs.backend.evaluate(C.coefficients, rows, xi.reshape(-1))
+            jac = np.sqrt(np.einsum("pg,pg->p", dx, dx)).reshape(xi.shape)
             weights = length[:, None] * w_ref[None, :] * jac
             rows = cell_rows(pair.multiplier, seg.contactor)
             out.append(PointGroups(seg.contactor, seg.target, xi, weights, rows))

@@ -5,7 +5,7 @@ r"""Contact search: which contactor facets face which target facets, and where.
 Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.coupling`:
 
 - candidate pairs of facets from bounding boxes padded by the search radius
-  (:func:`box_pairs`, :func:`candidates`);
+  (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`);
 - the sub-segments of the new algorithm (section 5, Fig. 15(b)): contactor facets cut
   at the projections of the target's corner nodes (:func:`sub_segments`);
 - the target point :math:`x_T^{i*}` met along the normal :math:`N = -n_C` from a
@@ -38,6 +38,7 @@ __all__ = [
     "find_targets",
     "node_offsets",
     "sub_segments",
+    "swept_boxes",
 ]
 
 
@@ -123,13 +124,35 @@ def candidates(
     return box_pairs(padded, target.bounding_boxes(T))
 
 
+def swept_boxes(
+    surface: ContactSurface, data: SurfaceData, radius: float
+) -> npt.NDArray[np.floating]:
+    r"""Boxes of the facets moved by up to ``radius`` along their normals.
+
+    A straight facet swept along :math:`\pm r \mathbf n` covers a parallelogram whose
+    box is the facet's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved
+    facet's box grows by :math:`r` in every direction.
+    """
+    boxes = surface.bounding_boxes(data)
+    c = data.coefficients
+    pad = np.full((len(data), boxes.shape[2]), radius)
+    straight = np.all(c[:, 2:] == 0.0, axis=(1, 2))
+    tangent = c[straight, 1]
+    length = np.sqrt(np.einsum("fg,fg->f", tangent, tangent))[:, None]
+    pad[straight] = radius * np.abs(tangent[:, ::-1]) / length
+    boxes[:, 0] -= pad
+    boxes[:, 1] += pad
+    return boxes
+
+
 def sub_segments(
     contactor: ContactSurface, target: ContactSurface, T: SurfaceData, radius: float
 ) -> SubSegments:
     """Cut the contactor facets at the projected target corner nodes (Fig. 15(b)).
 
-    Candidate pairs come from overlapping bounding boxes padded by the search
-    radius; pairs whose outward normals do not oppose are dropped, and so are pieces
+    Candidate pairs come from the boxes of the contactor facets swept along their
+    normals by the search radius (:func:`swept_boxes`) that overlap target facet boxes;
+    pairs whose outward normals do not oppose are dropped, and so are pieces
     whose middle is farther than ``radius`` from the target facet along the normal.
 
     Args:
@@ -139,26 +162,10 @@ def sub_segments(
         radius: The search radius.
     """
     C, cs, ts = contactor.data, contactor, target
-    ic, it = candidates(cs.bounding_boxes(C), ts, T, radius)
-
-    half = np.full(ic.size, 0.5)
-    n_c = cs.outward_normals(C, ic, half)
-    n_t = ts.outward_normals(T, it, half)
-    facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
-    ic, it, n_c = ic[facing], it[facing], n_c[facing]
-
-    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
-    _, xa, _ = ts.evaluate(T, it, np.zeros(it.size))
-    _, xb, _ = ts.evaluate(T, it, np.ones(it.size))
-    xi_a = cs.project(C, ic, xa)
-    xi_b = cs.project(C, ic, xb)
-    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
-    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
-    # Normal distance from the sub-segment's middle to the target facet.
-    _, xm, _ = cs.evaluate(C, ic, 0.5 * (lo + hi))
-    _, xt, _ = ts.evaluate(T, it, np.full(it.size, 0.5))
-    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
-    keep = (hi - lo > 1e-12) & near
+    ic, it = box_pairs(swept_boxes(cs, C, radius), ts.bounding_boxes(T))
+    lo, hi, keep = cs.backend.clip_segments(
+        C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it, radius, 1e-12
+    )
     return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
 
 

@@ -30,7 +30,7 @@ import numpy.typing as npt
 from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
 from dolfinx_contact_s2s.kernels import get_backend
 
-__all__ = ["ContactSurface", "SurfaceData", "contact_surface", "tabulate"]
+__all__ = ["ContactSurface", "SurfaceData", "contact_surface", "facet_monomials", "tabulate"]
 
 
 def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
@@ -45,6 +45,34 @@ def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDAr
         count = (derivatives + 1) if tdim == 1 else (derivatives + 1) * (derivatives + 2) // 2
         return np.zeros((count, 0, element.dim))
     return element.tabulate(derivatives, X)
+
+
+def facet_monomials(
+    element, ref_a: npt.NDArray[np.floating], ref_b: npt.NDArray[np.floating]
+) -> npt.NDArray[np.floating]:
+    r"""Monomial coefficients in :math:`\xi` of a scalar element's basis along reference facets.
+
+    On the straight reference facet :math:`X(\xi) = X_a + \xi (X_b - X_a)` a degree-:math:`k`
+    Lagrange basis function is a polynomial of degree :math:`k` in :math:`\xi`: Basix
+    tabulates it at :math:`k + 1` equispaced points, a Vandermonde solve gives the
+    coefficients (the input of the backends' ``facet_basis`` and ``facet_coefficients``).
+
+    Args:
+        element: Scalar Basix-UFL element.
+        ref_a: First vertex of each reference facet, ``(L, tdim)``.
+        ref_b: Second vertex of each reference facet, ``(L, tdim)``.
+
+    Returns:
+        ``table[l, m, k]``, shape ``(L, degree + 1, num_dofs)``.
+    """
+    p = element.degree
+    xi = np.linspace(0.0, 1.0, p + 1)
+    vandermonde = np.vander(xi, p + 1, increasing=True)
+    out = []
+    for a, b in zip(ref_a, ref_b, strict=True):
+        tab = tabulate(element, 0, a[None, :] + xi[:, None] * (b - a)[None, :])[0]
+        out.append(np.linalg.solve(vandermonde, tab))
+    return np.ascontiguousarray(np.stack(out))
 
 
 @dataclass(frozen=True)
@@ -86,7 +114,7 @@ class ContactSurface:
         facet_tags: dolfinx.mesh.MeshTags,
         tag: int,
         *,
-        backend: str = "numpy",
+        backend: str = "auto",
     ):
         """Collect the facets of ``facet_tags`` marked ``tag`` on the mesh of ``V``.
 
@@ -94,8 +122,9 @@ class ContactSurface:
             V: Vector-valued Lagrange displacement space of the body.
             facet_tags: Facet markers of the body's mesh.
             tag: Marker of the contact surface.
-            backend: Kernel backend of the facet geometry, see
-                :func:`dolfinx_contact_s2s.kernels.get_backend`.
+            backend: Kernel backend of the facet geometry and the coupling: ``"numpy"``,
+                ``"c"`` or ``"auto"`` (``$S2S_KERNEL_BACKEND``, else C when it compiles),
+                see :func:`dolfinx_contact_s2s.kernels.get_backend` (collective).
 
         Raises:
             ValueError: On every rank, if no process holds a facet with ``tag``, if a
@@ -162,7 +191,7 @@ class ContactSurface:
         self.cells = cells
         self.cell_type = basix.CellType[cell_name]
         self.element = scalar
-        self.backend = get_backend(backend)
+        self.backend = get_backend(backend, comm)
         # Scalar Basix element of the coordinate map (tabulates derivatives).
         self.cmap = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element())
         ref_x = basix.geometry(self.cell_type)
@@ -170,7 +199,8 @@ class ContactSurface:
         self._ref_a = ref_x[facet_vertices[:, 0]]
         self._ref_b = ref_x[facet_vertices[:, 1]]
         self._ref_normals = np.asarray(basix.cell.facet_outward_normals(self.cell_type))
-        self._facet_basis = self._facet_monomials()
+        self._facet_basis = facet_monomials(self.cmap, self._ref_a, self._ref_b)
+        self._basis_table = facet_monomials(scalar, self._ref_a, self._ref_b)
 
         coefficients = self.backend.facet_coefficients(self._facet_basis, local_facet, coords)
         # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
@@ -185,22 +215,6 @@ class ContactSurface:
         self.data = SurfaceData(
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
-
-    def _facet_monomials(self) -> npt.NDArray[np.floating]:
-        r"""Monomial coefficients in :math:`\xi` of the coordinate basis on each reference facet.
-
-        The degree-:math:`p` coordinate map restricted to a straight reference facet is a
-        polynomial of degree :math:`p` in :math:`\xi`: Basix tabulates it at
-        :math:`p + 1` equispaced points, a Vandermonde solve gives the coefficients.
-        """
-        p = self.cmap.degree
-        xi = np.linspace(0.0, 1.0, p + 1)
-        vandermonde = np.vander(xi, p + 1, increasing=True)
-        out = []
-        for a, b in zip(self._ref_a, self._ref_b, strict=True):
-            tab = tabulate(self.cmap, 0, a[None, :] + xi[:, None] * (b - a)[None, :])[0]
-            out.append(np.linalg.solve(vandermonde, tab))
-        return np.ascontiguousarray(np.stack(out))
 
     @property
     def comm(self) -> MPI.Comm:
@@ -263,6 +277,17 @@ class ContactSurface:
         """Scalar displacement basis functions at reference points, shape ``(n, num_dofs)``."""
         return tabulate(self.element, 0, X)[0]
 
+    def facet_basis(
+        self, data: SurfaceData, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating]
+    ) -> npt.NDArray[np.floating]:
+        r"""Scalar displacement basis functions at facet parameters, ``(n, num_dofs)``.
+
+        The same values as :meth:`basis` at :meth:`reference_points`, from the basis'
+        monomial coefficients along each reference facet (no tabulation).
+        """
+        xi = np.ascontiguousarray(xi, dtype=np.float64)
+        return self.backend.facet_basis(self._basis_table, data.local_facet[rows], xi)
+
     def project(
         self,
         data: SurfaceData,
@@ -296,17 +321,11 @@ class ContactSurface:
     def bounding_boxes(self, data: SurfaceData, samples: int = 5) -> npt.NDArray[np.floating]:
         """Axis-aligned boxes ``(num_facets, 2, gdim)`` of the facets, from sample points.
 
-        The boxes are padded by a quarter of each facet's size, which covers the
-        deviation of a quadratic facet from its sample points.
+        The boxes of curved facets are padded by a quarter of each facet's size, which
+        covers the deviation of a quadratic facet from its sample points; those of
+        straight facets are exact.
         """
-        n = len(data)
-        rows = np.repeat(np.arange(n, dtype=np.int32), samples)
-        xi = np.tile(np.linspace(0.0, 1.0, samples), n)
-        _, x, _ = self.evaluate(data, rows, xi)
-        x = x.reshape(n, samples, x.shape[1])
-        lo, hi = x.min(axis=1), x.max(axis=1)
-        pad = 0.25 * np.linalg.norm(hi - lo, axis=1)[:, None]
-        return np.stack([lo - pad, hi + pad], axis=1)
+        return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
     def sizes(self, data: SurfaceData) -> npt.NDArray[np.floating]:
         """Chord length of each facet."""
@@ -322,7 +341,7 @@ def contact_surface(
     facet_tags: dolfinx.mesh.MeshTags,
     tag: int,
     *,
-    backend: str = "numpy",
+    backend: str = "auto",
 ) -> ContactSurface:
     """Create the :class:`ContactSurface` of facets marked ``tag`` on the mesh of ``V``."""
     return ContactSurface(V, facet_tags, tag, backend=backend)

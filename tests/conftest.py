@@ -6,6 +6,8 @@ from mpi4py import MPI
 
 import pytest
 
+from dolfinx_contact_s2s.kernels import get_backend
+
 
 def pytest_runtest_setup(item):
     if item.get_closest_marker("skip_in_parallel") and MPI.COMM_WORLD.size > 1:
@@ -18,3 +20,10 @@ def collective_cleanup():
     yield
     gc.collect()
     MPI.COMM_WORLD.Barrier()
+
+
+@pytest.fixture
+def kernel_backend(request):
+    """The kernel backend named by the (indirect) parameter, e.g.
+    ``@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)``."""
+    return get_backend(request.param)

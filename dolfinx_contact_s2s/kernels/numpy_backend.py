@@ -20,8 +20,14 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "NEWTON_TOL",
+    "ROUND_OFF",
+    "bounding_boxes",
     "cell_normals",
+    "clip_segments",
+    "coo_to_csr",
     "evaluate",
+    "facet_basis",
     "facet_coefficients",
     "intersect",
     "outward_normals",
@@ -30,6 +36,17 @@ __all__ = [
 ]
 
 _Array = npt.NDArray[np.float64]
+
+#: Relative Newton stopping test: stop after a step :math:`|\delta| \le` ``NEWTON_TOL``
+#: :math:`(1 + |\xi|)`. Newton converges quadratically, so the error left after such a
+#: step is of the order of its square, far below round-off.
+NEWTON_TOL = 1e-10
+
+#: Relative round-off of a projected node, in units of the coordinates' magnitude: a
+#: sub-segment no longer than this (times the coordinates' magnitude over the facet's
+#: chord, in the facet parameter) is a sliver made by round-off, between nodes that
+#: coincide, and is dropped (:func:`clip_segments`).
+ROUND_OFF = 32 * np.finfo(np.float64).eps
 
 
 def facet_coefficients(basis: _Array, local_facet: npt.NDArray[np.int32], coords: _Array) -> _Array:
@@ -84,6 +101,30 @@ def evaluate(
     return x, dx, ddx
 
 
+def facet_basis(table: _Array, local_facet: npt.NDArray[np.int32], xi: _Array) -> _Array:
+    r"""Scalar basis functions restricted to reference facets, from their monomial coefficients.
+
+    A degree-:math:`k` Lagrange basis function restricted to a straight reference facet
+    is a polynomial of degree :math:`k` in the facet parameter, so no tabulation at
+    mapped reference points is needed (the bases :math:`h^{ij}` and :math:`H^{ik}` of
+    Eqs. 41-42).
+
+    Args:
+        table: ``table[l, m, k]``, the :math:`\xi^m` coefficient of basis function
+            :math:`k` along reference facet :math:`l`, ``(L, m_max + 1, K)``.
+        local_facet: Reference facet of each point, ``(P,)``.
+        xi: Facet parameter of each point, ``(P,)``.
+
+    Returns:
+        ``(P, K)``.
+    """
+    c = table[local_facet]
+    value = c[:, -1].copy()
+    for m in range(c.shape[1] - 2, -1, -1):
+        value = value * xi[:, None] + c[:, m]
+    return value
+
+
 def cell_normals(tables: _Array, coords: _Array, reference_normals: _Array) -> _Array:
     r"""Unit outward normals :math:`J^{-T} \hat n / |J^{-T} \hat n|` from the cell map.
 
@@ -128,17 +169,24 @@ def outward_normals(
     return n / np.linalg.norm(n, axis=1)[:, None]
 
 
+def _converged(step: _Array, xi: _Array, tol: float) -> bool:
+    """Whether every Newton step passes the relative test (also for no points)."""
+    return bool(np.all(np.abs(step) <= tol * (1.0 + np.abs(xi))))
+
+
 def project(
     coefficients: _Array,
     rows: npt.NDArray[np.int32],
     points: _Array,
     iterations: int = 8,
+    tol: float = NEWTON_TOL,
 ) -> _Array:
     r"""Closest-point parameters :math:`\xi` of ``points`` on the (extended) facets.
 
     Solves :math:`(x(\xi) - p) \cdot x'(\xi) = 0` by Newton's method from
-    :math:`\xi = 1/2`, stopping when every step is below :math:`10^{-15}`; one step
-    is exact on straight facets.
+    :math:`\xi = 1/2`, stopping after at most ``iterations`` steps, or once every step
+    :math:`\delta` satisfies :math:`|\delta| \le` ``tol`` :math:`(1 + |\xi|)`; one step is
+    exact on straight facets (the second one then stops the loop).
     """
     xi = np.full(rows.size, 0.5)
     for _ in range(iterations):
@@ -148,7 +196,7 @@ def project(
         df = np.einsum("pg,pg->p", dx, dx) + np.einsum("pg,pg->p", r, ddx)
         step = f / df
         xi = xi - step
-        if np.all(np.abs(step) < 1e-15):
+        if _converged(step, xi, tol):
             break
     return xi
 
@@ -159,11 +207,12 @@ def intersect(
     origins: _Array,
     directions: _Array,
     iterations: int = 8,
+    tol: float = NEWTON_TOL,
 ) -> _Array:
     r"""Parameters :math:`\eta` where the lines ``origins + t * directions`` cross the facets.
 
     Solves :math:`(x(\eta) - o) \times N = 0` by Newton's method from :math:`\eta = 1/2`
-    (Eq. 38, Fig. 7(b)), stopping when every step is below :math:`10^{-15}`.
+    (Eq. 38, Fig. 7(b)), with the stopping test of :func:`project`.
     """
     perp = np.stack([-directions[:, 1], directions[:, 0]], axis=1)
     eta = np.full(rows.size, 0.5)
@@ -173,7 +222,7 @@ def intersect(
         df = np.einsum("pg,pg->p", dx, perp)
         step = f / df
         eta = eta - step
-        if np.all(np.abs(step) < 1e-15):
+        if _converged(step, eta, tol):
             break
     return eta
 
@@ -218,3 +267,121 @@ def segment_to_segment(
     b_t = -np.einsum("sqk,sqj,sqc->skjc", wmu, phi_t, normals).reshape(S, nk, phi_t.shape[2] * gdim)
     g = np.einsum("sqk,sq->sk", wmu, gaps)
     return b_c, b_t, g
+
+
+def clip_segments(
+    c_coefficients: _Array,
+    c_orientation: _Array,
+    t_coefficients: _Array,
+    t_orientation: _Array,
+    ic: npt.NDArray[np.int32],
+    it: npt.NDArray[np.int32],
+    radius: float,
+    min_length: float,
+    round_off: float = ROUND_OFF,
+    iterations: int = 8,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, _Array, npt.NDArray[np.bool_]]:
+    r"""The sub-segment of each candidate pair of facets (Fig. 15(b)).
+
+    The target facet's end nodes are projected onto the contactor facet
+    (:func:`project`); the sub-segment is the part of :math:`[0, 1]` between them. A
+    pair is kept when the facets' outward normals (at their middles) oppose, the piece
+    is longer than ``min_length`` and than the round-off of the projections,
+    ``round_off`` :math:`(s + L) / L` with :math:`L` the contactor facet's chord and
+    :math:`s` the largest coordinate of its ends (a sliver between coinciding nodes),
+    and its middle lies within ``radius`` of the target facet's middle along the
+    contactor normal.
+
+    Args:
+        c_coefficients: Contactor facet coefficients, ``(Fc, pc + 1, 2)``.
+        c_orientation: Contactor orientation signs, ``(Fc,)``.
+        t_coefficients: Target facet coefficients, ``(Ft, pt + 1, 2)``.
+        t_orientation: Target orientation signs, ``(Ft,)``.
+        ic: Contactor facet of each pair, ``(N,)``.
+        it: Target facet of each pair, ``(N,)``.
+        radius: Largest normal distance.
+        min_length: Shortest piece kept, in the contactor parameter.
+        round_off: Relative round-off of a projected point (see :data:`ROUND_OFF`).
+        iterations: Newton iterations of the projection at most.
+        tol: Relative Newton stopping test.
+
+    Returns:
+        ``(lo, hi, keep)``, each ``(N,)``.
+    """
+    half = np.full(ic.size, 0.5)
+    n_c = outward_normals(c_coefficients, c_orientation, ic, half)
+    n_t = outward_normals(t_coefficients, t_orientation, it, half)
+    facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
+    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
+    xa = evaluate(t_coefficients, it, np.zeros(it.size))[0]
+    xb = evaluate(t_coefficients, it, np.ones(it.size))[0]
+    xi_a = project(c_coefficients, ic, xa, iterations, tol)
+    xi_b = project(c_coefficients, ic, xb, iterations, tol)
+    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
+    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
+    xm = evaluate(c_coefficients, ic, 0.5 * (lo + hi))[0]
+    xt = evaluate(t_coefficients, it, half)[0]
+    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
+    c0 = c_coefficients[ic, 0]
+    c1 = evaluate(c_coefficients, ic, np.ones(ic.size))[0]
+    chord = np.hypot(c1[:, 0] - c0[:, 0], c1[:, 1] - c0[:, 1])
+    scale = np.maximum(
+        np.max(np.abs(c0), axis=1, initial=0.0), np.max(np.abs(c1), axis=1, initial=0.0)
+    )
+    shortest = np.maximum(min_length, round_off * (scale + chord) / chord)
+    keep = facing & (hi - lo > shortest) & near
+    lo = np.where(facing, lo, 0.0)
+    hi = np.where(facing, hi, 0.0)
+    return lo, hi, keep
+
+
+def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
+    """Axis-aligned boxes of 2D facets from equispaced sample points.
+
+    The samples bound a straight facet (higher coefficients exactly zero) exactly; the
+    box of a curved facet is padded to cover its bulge between samples.
+
+    Args:
+        coefficients: Facet coefficients, ``(F, p + 1, 2)``.
+        samples: Sample points per facet (both ends included).
+        pad: The box of a curved facet grows by ``pad`` times its diagonal in every
+            direction.
+
+    Returns:
+        Lower and upper corners, ``(F, 2, 2)``.
+    """
+    n = coefficients.shape[0]
+    rows = np.repeat(np.arange(n, dtype=np.int32), samples)
+    xi = np.tile(np.linspace(0.0, 1.0, samples), n)
+    x = evaluate(coefficients, rows, xi)[0].reshape(n, samples, 2)
+    lo, hi = x.min(axis=1, initial=np.inf), x.max(axis=1, initial=-np.inf)
+    width = np.sqrt(np.sum((hi - lo) ** 2, axis=1))[:, None]
+    width[np.all(coefficients[:, 2:] == 0.0, axis=(1, 2))] = 0.0
+    return np.stack([lo - pad * width, hi + pad * width], axis=1)
+
+
+def coo_to_csr(
+    num_rows: int, rows: npt.NDArray[np.int64], cols: npt.NDArray[np.int64], values: _Array
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], _Array]:
+    """Sum the entries ``values`` at ``(rows, cols)`` into a CSR matrix with sorted columns.
+
+    Args:
+        num_rows: Number of rows; ``0 <= rows < num_rows``.
+        rows: Row of each entry, ``(n,)``.
+        cols: Column of each entry (nonnegative), ``(n,)``.
+        values: The entries, ``(n,)``; duplicates are summed.
+
+    Returns:
+        ``(indptr, indices, data)``.
+    """
+    rows = np.asarray(rows, dtype=np.int64)
+    cols = np.asarray(cols, dtype=np.int64)
+    if rows.size and (rows.min() < 0 or rows.max() >= num_rows):
+        raise ValueError("row index out of range")
+    width = int(cols.max(initial=-1)) + 1
+    keys, inverse = np.unique(rows * width + cols, return_inverse=True)
+    data = np.bincount(inverse.reshape(-1), weights=values, minlength=keys.size)
+    local_rows, indices = np.divmod(keys, max(width, 1))
+    indptr = np.searchsorted(local_rows, np.arange(num_rows + 1)).astype(np.int64)
+    return indptr, indices.astype(np.int64), data

@@ -1,0 +1,380 @@
+/* Copyright (C) 2026 dolfinx_contact_s2s developers
+ * SPDX-License-Identifier: MIT
+ *
+ * Compiled contact kernels of dolfinx_contact_s2s (see c_backend.py).
+ *
+ * Facets are 2D curves x(xi) = sum_m c[m] xi^m with coefficients c of shape (M, 2),
+ * M = p + 1 for a degree-p coordinate map (numpy_backend.facet_coefficients). All
+ * arrays are C-contiguous; rows select one facet per point. No defaults live here:
+ * tolerances and iteration counts come from the Python layer.
+ */
+#include <math.h>
+#include <stdint.h>
+
+/* x, x' and x'' of facet c (M coefficients, gdim 2) at xi, by Horner's rule. */
+static void s2s_point(const double *c, int M, double xi, double *x, double *dx, double *ddx)
+{
+  double x0 = c[2 * (M - 1)], x1 = c[2 * (M - 1) + 1];
+  for (int m = M - 2; m >= 0; --m)
+  {
+    x0 = x0 * xi + c[2 * m];
+    x1 = x1 * xi + c[2 * m + 1];
+  }
+  x[0] = x0;
+  x[1] = x1;
+  if (!dx)
+    return;
+  if (M < 2)
+  {
+    dx[0] = dx[1] = 0.0;
+  }
+  else
+  {
+    double d0 = c[2 * (M - 1)] * (M - 1), d1 = c[2 * (M - 1) + 1] * (M - 1);
+    for (int m = M - 2; m >= 1; --m)
+    {
+      d0 = d0 * xi + c[2 * m] * m;
+      d1 = d1 * xi + c[2 * m + 1] * m;
+    }
+    dx[0] = d0;
+    dx[1] = d1;
+  }
+  if (!ddx)
+    return;
+  if (M < 3)
+  {
+    ddx[0] = ddx[1] = 0.0;
+  }
+  else
+  {
+    double e0 = c[2 * (M - 1)] * (M - 1) * (M - 2), e1 = c[2 * (M - 1) + 1] * (M - 1) * (M - 2);
+    for (int m = M - 2; m >= 2; --m)
+    {
+      e0 = e0 * xi + c[2 * m] * m * (m - 1);
+      e1 = e1 * xi + c[2 * m + 1] * m * (m - 1);
+    }
+    ddx[0] = e0;
+    ddx[1] = e1;
+  }
+}
+
+/* Whether facet c is straight: every coefficient beyond the linear one is exactly 0. */
+static int s2s_straight(const double *c, int M)
+{
+  for (int m = 2; m < M; ++m)
+    if (c[2 * m] != 0.0 || c[2 * m + 1] != 0.0)
+      return 0;
+  return 1;
+}
+
+void s2s_facet_coefficients(const double *basis, int M, int K, const int32_t *local_facet,
+                            int F, const double *coords, int gdim, double *out)
+{
+  for (int f = 0; f < F; ++f)
+  {
+    const double *b = basis + (int64_t)local_facet[f] * M * K;
+    const double *x = coords + (int64_t)f * K * gdim;
+    double *o = out + (int64_t)f * M * gdim;
+    for (int m = 0; m < M; ++m)
+      for (int g = 0; g < gdim; ++g)
+      {
+        double s = 0.0;
+        for (int k = 0; k < K; ++k)
+          s += b[m * K + k] * x[k * gdim + g];
+        o[m * gdim + g] = s;
+      }
+  }
+}
+
+void s2s_evaluate(const double *c, int M, const int32_t *rows, const double *xi, int P,
+                  double *x, double *dx, double *ddx)
+{
+  for (int p = 0; p < P; ++p)
+    s2s_point(c + (int64_t)rows[p] * M * 2, M, xi[p], x + 2 * p, dx ? dx + 2 * p : 0,
+              ddx ? ddx + 2 * p : 0);
+}
+
+void s2s_facet_basis(const double *table, int M, int K, const int32_t *local_facet,
+                     const double *xi, int P, double *out)
+{
+  for (int p = 0; p < P; ++p)
+  {
+    const double *t = table + (int64_t)local_facet[p] * M * K;
+    double *o = out + (int64_t)p * K;
+    double s = xi[p];
+    for (int k = 0; k < K; ++k)
+    {
+      double v = t[(M - 1) * K + k];
+      for (int m = M - 2; m >= 0; --m)
+        v = v * s + t[m * K + k];
+      o[k] = v;
+    }
+  }
+}
+
+void s2s_cell_normals(const double *tables, const double *coords, int P, int K,
+                      const double *reference_normals, double *out)
+{
+  /* J[g][d] = sum_k x[k][g] dphi_k/dX_d; n = J^{-T} n_ref, normalised (gdim = tdim = 2). */
+  for (int p = 0; p < P; ++p)
+  {
+    double J[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+    const double *x = coords + (int64_t)p * K * 2;
+    for (int d = 0; d < 2; ++d)
+    {
+      const double *t = tables + ((int64_t)d * P + p) * K;
+      for (int k = 0; k < K; ++k)
+      {
+        J[0][d] += x[2 * k] * t[k];
+        J[1][d] += x[2 * k + 1] * t[k];
+      }
+    }
+    /* Solve J^T n = n_ref. */
+    double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+    const double *r = reference_normals + 2 * p;
+    double n0 = (J[1][1] * r[0] - J[1][0] * r[1]) / det;
+    double n1 = (-J[0][1] * r[0] + J[0][0] * r[1]) / det;
+    double len = sqrt(n0 * n0 + n1 * n1);
+    out[2 * p] = n0 / len;
+    out[2 * p + 1] = n1 / len;
+  }
+}
+
+static void s2s_normal(const double *c, int M, double orientation, double xi, double *n)
+{
+  double x[2], dx[2];
+  s2s_point(c, M, xi, x, dx, 0);
+  double n0 = dx[1] * orientation, n1 = -dx[0] * orientation;
+  double len = sqrt(n0 * n0 + n1 * n1);
+  n[0] = n0 / len;
+  n[1] = n1 / len;
+}
+
+void s2s_outward_normals(const double *c, int M, const double *orientation, const int32_t *rows,
+                         const double *xi, int P, double *out)
+{
+  for (int p = 0; p < P; ++p)
+    s2s_normal(c + (int64_t)rows[p] * M * 2, M, orientation[rows[p]], xi[p], out + 2 * p);
+}
+
+/* Closest point of y on facet c: closed form if straight, else Newton from 1/2. */
+static double s2s_project_one(const double *c, int M, const double *y, int iterations,
+                              double tol)
+{
+  if (s2s_straight(c, M))
+  {
+    double t0 = M > 1 ? c[2] : 0.0, t1 = M > 1 ? c[3] : 0.0;
+    return ((y[0] - c[0]) * t0 + (y[1] - c[1]) * t1) / (t0 * t0 + t1 * t1);
+  }
+  double xi = 0.5, x[2], dx[2], ddx[2];
+  for (int it = 0; it < iterations; ++it)
+  {
+    s2s_point(c, M, xi, x, dx, ddx);
+    double r0 = x[0] - y[0], r1 = x[1] - y[1];
+    double f = r0 * dx[0] + r1 * dx[1];
+    double df = (dx[0] * dx[0] + dx[1] * dx[1]) + (r0 * ddx[0] + r1 * ddx[1]);
+    double step = f / df;
+    xi -= step;
+    if (fabs(step) <= tol * (1.0 + fabs(xi)))
+      break;
+  }
+  return xi;
+}
+
+void s2s_project(const double *c, int M, const int32_t *rows, const double *points, int P,
+                 int iterations, double tol, double *xi)
+{
+  for (int p = 0; p < P; ++p)
+    xi[p] = s2s_project_one(c + (int64_t)rows[p] * M * 2, M, points + 2 * p, iterations, tol);
+}
+
+void s2s_intersect(const double *c, int M, const int32_t *rows, const double *origins,
+                   const double *directions, int P, int iterations, double tol, double *eta)
+{
+  for (int p = 0; p < P; ++p)
+  {
+    const double *cf = c + (int64_t)rows[p] * M * 2;
+    const double *o = origins + 2 * p;
+    double q0 = -directions[2 * p + 1], q1 = directions[2 * p];
+    if (s2s_straight(cf, M))
+    {
+      double t0 = M > 1 ? cf[2] : 0.0, t1 = M > 1 ? cf[3] : 0.0;
+      eta[p] = -((cf[0] - o[0]) * q0 + (cf[1] - o[1]) * q1) / (t0 * q0 + t1 * q1);
+      continue;
+    }
+    double e = 0.5, x[2], dx[2];
+    for (int it = 0; it < iterations; ++it)
+    {
+      s2s_point(cf, M, e, x, dx, 0);
+      double f = (x[0] - o[0]) * q0 + (x[1] - o[1]) * q1;
+      double df = dx[0] * q0 + dx[1] * q1;
+      double step = f / df;
+      e -= step;
+      if (fabs(step) <= tol * (1.0 + fabs(e)))
+        break;
+    }
+    eta[p] = e;
+  }
+}
+
+void s2s_segment_to_segment(const double *mu, const double *phi_c, const double *phi_t,
+                            const double *normals, const double *weights, const double *gaps,
+                            int S, int Q, int nk, int nc, int nt, int gdim, double *b_c,
+                            double *b_t, double *g)
+{
+  for (int s = 0; s < S; ++s)
+  {
+    double *bc = b_c + (int64_t)s * nk * nc * gdim;
+    double *bt = b_t + (int64_t)s * nk * nt * gdim;
+    double *gs = g + (int64_t)s * nk;
+    for (int i = 0; i < nk * nc * gdim; ++i)
+      bc[i] = 0.0;
+    for (int i = 0; i < nk * nt * gdim; ++i)
+      bt[i] = 0.0;
+    for (int k = 0; k < nk; ++k)
+      gs[k] = 0.0;
+    for (int q = 0; q < Q; ++q)
+    {
+      int64_t sq = (int64_t)s * Q + q;
+      const double w = weights[sq];
+      const double *m = mu + sq * nk;
+      const double *pc = phi_c + sq * nc;
+      const double *pt = phi_t + sq * nt;
+      const double *n = normals + sq * gdim;
+      for (int k = 0; k < nk; ++k)
+      {
+        double wm = m[k] * w;
+        gs[k] += wm * gaps[sq];
+        for (int j = 0; j < nc; ++j)
+          for (int d = 0; d < gdim; ++d)
+            bc[(k * nc + j) * gdim + d] += wm * pc[j] * n[d];
+        for (int j = 0; j < nt; ++j)
+          for (int d = 0; d < gdim; ++d)
+            bt[(k * nt + j) * gdim + d] -= wm * pt[j] * n[d];
+      }
+    }
+  }
+}
+
+void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation, const double *tc,
+                       int Mt, const double *t_orientation, const int32_t *ic, const int32_t *it,
+                       int N, double radius, double min_length, double round_off,
+                       int iterations, double tol, double *lo, double *hi, int8_t *keep)
+{
+  for (int p = 0; p < N; ++p)
+  {
+    const double *c = cc + (int64_t)ic[p] * Mc * 2;
+    const double *t = tc + (int64_t)it[p] * Mt * 2;
+    double n_c[2], n_t[2];
+    s2s_normal(c, Mc, c_orientation[ic[p]], 0.5, n_c);
+    s2s_normal(t, Mt, t_orientation[it[p]], 0.5, n_t);
+    lo[p] = hi[p] = 0.0;
+    keep[p] = 0;
+    if (!(n_c[0] * n_t[0] + n_c[1] * n_t[1] < 0.0))
+      continue;
+    double xa[2], xb[2], xm[2], xt[2];
+    s2s_point(t, Mt, 0.0, xa, 0, 0);
+    s2s_point(t, Mt, 1.0, xb, 0, 0);
+    double a = s2s_project_one(c, Mc, xa, iterations, tol);
+    double b = s2s_project_one(c, Mc, xb, iterations, tol);
+    double l = fmin(a, b), h = fmax(a, b);
+    l = fmin(fmax(l, 0.0), 1.0);
+    h = fmin(fmax(h, 0.0), 1.0);
+    lo[p] = l;
+    hi[p] = h;
+    s2s_point(c, Mc, 0.5 * (l + h), xm, 0, 0);
+    s2s_point(t, Mt, 0.5, xt, 0, 0);
+    double d = (xt[0] - xm[0]) * n_c[0] + (xt[1] - xm[1]) * n_c[1];
+    /* Pieces no longer than the round-off of the projections are slivers. */
+    double c1[2];
+    s2s_point(c, Mc, 1.0, c1, 0, 0);
+    double chord = hypot(c1[0] - c[0], c1[1] - c[1]);
+    double scale = fmax(fmax(fabs(c[0]), fabs(c[1])), fmax(fabs(c1[0]), fabs(c1[1])));
+    double shortest = fmax(min_length, round_off * (scale + chord) / chord);
+    keep[p] = (h - l > shortest) && (fabs(d) <= radius);
+  }
+}
+
+void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, double *out)
+{
+  for (int f = 0; f < F; ++f)
+  {
+    const double *cf = c + (int64_t)f * M * 2;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, x[2];
+    for (int i = 0; i < samples; ++i)
+    {
+      double xi = (samples > 1) ? ((i == samples - 1) ? 1.0 : i * (1.0 / (samples - 1))) : 0.0;
+      s2s_point(cf, M, xi, x, 0, 0);
+      for (int g = 0; g < 2; ++g)
+      {
+        lo[g] = fmin(lo[g], x[g]);
+        hi[g] = fmax(hi[g], x[g]);
+      }
+    }
+    /* Samples bound a straight facet exactly; a curved one may bulge between them. */
+    double d0 = hi[0] - lo[0], d1 = hi[1] - lo[1];
+    double p = s2s_straight(cf, M) ? 0.0 : pad * sqrt(d0 * d0 + d1 * d1);
+    double *o = out + (int64_t)f * 4;
+    o[0] = lo[0] - p;
+    o[1] = lo[1] - p;
+    o[2] = hi[0] + p;
+    o[3] = hi[1] + p;
+  }
+}
+
+/* Sum duplicate (row, col) entries into CSR with sorted columns; returns the number of
+ * nonzeros. rows are local (0 <= row < nrows); work holds n + nrows + 1 int64. */
+int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
+                       const double *values, int64_t *indptr, int64_t *indices, double *data)
+{
+  for (int64_t r = 0; r <= nrows; ++r)
+    indptr[r] = 0;
+  for (int64_t e = 0; e < n; ++e)
+    indptr[rows[e] + 1]++;
+  for (int64_t r = 0; r < nrows; ++r)
+    indptr[r + 1] += indptr[r];
+  /* Scatter into row buckets (indptr[r] advances to the bucket's end, then is shifted back). */
+  for (int64_t e = 0; e < n; ++e)
+  {
+    int64_t k = indptr[rows[e]]++;
+    indices[k] = cols[e];
+    data[k] = values[e];
+  }
+  for (int64_t r = nrows; r > 0; --r)
+    indptr[r] = indptr[r - 1];
+  indptr[0] = 0;
+  /* Sort each row by column (insertion sort: rows are short), sum duplicates, compact. */
+  int64_t out = 0;
+  for (int64_t r = 0; r < nrows; ++r)
+  {
+    int64_t begin = indptr[r], end = indptr[r + 1];
+    for (int64_t a = begin + 1; a < end; ++a)
+    {
+      int64_t c = indices[a];
+      double v = data[a];
+      int64_t b = a - 1;
+      while (b >= begin && indices[b] > c)
+      {
+        indices[b + 1] = indices[b];
+        data[b + 1] = data[b];
+        --b;
+      }
+      indices[b + 1] = c;
+      data[b + 1] = v;
+    }
+    indptr[r] = out;
+    for (int64_t a = begin; a < end; ++a)
+    {
+      if (a > begin && indices[a] == indices[out - 1])
+        data[out - 1] += data[a];
+      else
+      {
+        indices[out] = indices[a];
+        data[out] = data[a];
+        ++out;
+      }
+    }
+  }
+  indptr[nrows] = out;
+  return out;
+}
