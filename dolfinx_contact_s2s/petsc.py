@@ -25,10 +25,12 @@ import ufl
 from dolfinx_contact_s2s.coupling import ContactPair
 
 __all__ = [
+    "SYMMETRY_TOLERANCE",
     "UNCOVERED_TOLERANCE",
     "CouplingOperator",
     "assemble_coupling",
     "gather_dense",
+    "is_symmetric",
     "multiplier_mass",
 ]
 
@@ -272,3 +274,21 @@ def gather_dense(A: PETSc.Mat) -> npt.NDArray[np.floating]:
         rows = start + np.repeat(np.arange(indptr.size - 1), np.diff(indptr))
         D[rows, indices] += data
     return D
+
+
+#: Relative tolerance of :func:`is_symmetric`: far above the round-off of an assembled
+#: symmetric form, far below any asymmetry that matters to a solve.
+SYMMETRY_TOLERANCE = 1e-10
+
+
+def is_symmetric(A: PETSc.Mat, rtol: float = SYMMETRY_TOLERANCE) -> bool:
+    r"""Whether :math:`|a_{ij} - a_{ji}| \le` ``rtol`` :math:`\|\mathbf A\|_\infty` everywhere.
+
+    One pass over the entries (``MatIsSymmetric``), the structure included: an entry
+    whose transpose is not stored counts as asymmetric unless it is within the
+    tolerance of zero. Collective; the same answer on every process.
+    """
+    scale = A.norm(PETSc.NormType.INFINITY)
+    if scale == 0.0:
+        return True
+    return bool(A.isSymmetric(rtol * scale))
