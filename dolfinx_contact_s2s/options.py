@@ -55,7 +55,7 @@ class PETScOptions:
         options = dict(options or {})
         for key, value in (defaults or {}).items():
             if key not in options and not self._db.hasName(self.name(key)):
-                self.set(key, value)
+                self._put(key, value)
                 self.defaulted.add(key.lstrip("-"))
         for key, value in options.items():
             self.set(key, value)
@@ -65,7 +65,11 @@ class PETScOptions:
         return f"{self.prefix}{key.lstrip('-')}"
 
     def set(self, key: str, value: typing.Any) -> None:
-        """Set ``key`` under the prefix (until :meth:`clear`)."""
+        """Set ``key`` under the prefix (until :meth:`clear`): the caller's choice."""
+        self.defaulted.discard(key.lstrip("-"))
+        self._put(key, value)
+
+    def _put(self, key: str, value: typing.Any) -> None:
         name = self.name(key)
         if name not in self._replaced:
             self._replaced[name] = self._db.getString(name) if self._db.hasName(name) else None
@@ -80,7 +84,7 @@ class PETScOptions:
         """
         if key.lstrip("-") not in self.defaulted:
             return False
-        self.set(key, value)
+        self._put(key, value)
         return True
 
     def get(self, key: str, default: str | None = None) -> str | None:

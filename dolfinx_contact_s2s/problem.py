@@ -250,7 +250,7 @@ class LinearContactProblem:
             self.timings[stage] += time.perf_counter() - begin
 
     def _create_stiffness(self) -> None:
-        """Allocate :math:`\mathbf K` of every space, with its rigid modes for GAMG."""
+        r"""Allocate :math:`\mathbf K` of every space, with its rigid modes for GAMG."""
         self._K = [dolfinx.fem.petsc.create_matrix(ai) for ai in self.a]
         for K, ns in zip(self._K, self.near_nullspaces, strict=True):
             K.setNearNullSpace(ns)
@@ -262,7 +262,7 @@ class LinearContactProblem:
 
     @property
     def stiffness(self) -> list[PETSc.Mat]:
-        """Assembled :math:`\mathbf K` of every space (Dirichlet rows and columns unit).
+        r"""Assembled :math:`\mathbf K` of every space (Dirichlet rows and columns unit).
 
         With ``kind="aij"`` only until the saddle point is built: :math:`\mathbf K` is
         then stored in :attr:`A` alone; use :meth:`stiffness_matrix`.
@@ -278,7 +278,7 @@ class LinearContactProblem:
         return self._K
 
     def stiffness_matrix(self, i: int) -> PETSc.Mat:
-        """A copy of the assembled :math:`\mathbf K` of space ``i``; the caller destroys it."""
+        r"""A copy of the assembled :math:`\mathbf K` of space ``i``; the caller destroys it."""
         if self._K:
             return self._K[i].copy()
         if self.A is None:
@@ -289,7 +289,7 @@ class LinearContactProblem:
         return K
 
     def stiffness_diagonal(self, i: int) -> PETSc.Vec:
-        """The diagonal of :math:`\mathbf K` of space ``i``; the caller destroys it."""
+        r"""The diagonal of :math:`\mathbf K` of space ``i``; the caller destroys it."""
         if self._K:
             return self._K[i].getDiagonal()
         if self.A is None:
@@ -428,7 +428,7 @@ class LinearContactProblem:
         self._build_system()
 
     def _decide_symmetry(self) -> None:
-        """Set :attr:`symmetric` from the assembled :math:`\mathbf K` (collective)."""
+        r"""Set :attr:`symmetric` from the assembled :math:`\mathbf K` (collective)."""
         flags = [is_symmetric(K) for K in self._K]
         self.symmetric = all(flags)
         if not self.symmetric:
