@@ -208,6 +208,10 @@ class InfSupTest:
             sub = self._scaling.getSubVector(is_m)
             sub.array[:] = d.array_r
             self._scaling.restoreSubVector(is_m, sub)
+        # S now lives in A alone: no second copy beside the factorization.
+        for obj in [self._nest, self._P_nest, *self._S, *self._owned]:
+            obj.destroy()
+        self._S, self._owned = [], []
 
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOperators(self.A)
@@ -460,8 +464,6 @@ class InfSupTest:
             self.ksp,
             self.A,
             self.P,
-            self._nest,
-            self._P_nest,
             self._rhs,
             self._sol,
             self._z,
