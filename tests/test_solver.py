@@ -202,3 +202,22 @@ def test_hertz_ldlt_matches_lu(algorithm):
     (lam_ldlt, it_ldlt), (lam_lu, it_lu) = results
     assert it_ldlt == it_lu
     assert np.max(np.abs(lam_ldlt - lam_lu)) < 1e-9 * np.max(np.abs(lam_lu))
+
+
+def test_symmetry_check_sees_couplings_between_processes():
+    """An asymmetric entry coupling the first and the last row, whichever process owns them."""
+    n = 8
+    for value, expected in ((1.0, False), (0.0, True)):
+        A = PETSc.Mat().createAIJ([n, n], nnz=(2, 2), comm=comm)
+        start, end = A.getOwnershipRange()
+        for i in range(start, end):
+            A.setValue(i, i, 2.0)
+        if start == 0:
+            A.setValue(0, n - 1, value)
+        if end == n:
+            A.setValue(n - 1, 0, 0.0)
+        A.assemble()
+        dense = gather_dense(A)
+        assert np.array_equal(dense, dense.T) == expected
+        assert is_symmetric(A) == expected
+        A.destroy()
