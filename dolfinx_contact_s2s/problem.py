@@ -636,10 +636,29 @@ class LinearContactProblem:
 
     def _solve_checked(self) -> None:
         assert self.A is not None and self.b is not None and self.x is not None
-        self.solver.solve(self.b, self.x)
+        self._solve_retrying(self.solver, self._configure_solver, self.b, self.x)
+        if self.solver.getConvergedReason() < 0:
+            raise RuntimeError(
+                "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
+            )
+        self._check_residual()
+        self._scatter()
+
+    def _solve_retrying(
+        self, ksp: PETSc.KSP, configure: typing.Callable[[], None], b: PETSc.Vec, x: PETSc.Vec
+    ) -> None:
+        """``ksp.solve(b, x)``; a MUMPS workspace error is met by doubling ICNTL(14).
+
+        Args:
+            ksp: The solver, configured.
+            configure: Gives the reset ``ksp`` its operator and options again.
+            b: Right-hand side.
+            x: Solution.
+        """
+        ksp.solve(b, x)
         for _ in range(self.workspace_retries):
-            F = mumps_factor(self.solver)
-            if self.solver.getConvergedReason() >= 0 or F is None:
+            F = mumps_factor(ksp)
+            if ksp.getConvergedReason() >= 0 or F is None:
                 break
             if F.getMumpsInfog(1) not in MUMPS_WORKSPACE_ERRORS:
                 break
@@ -647,15 +666,9 @@ class LinearContactProblem:
             logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
             self.options.set("mat_mumps_icntl_14", icntl)
             # A new factor reads the raised ICNTL(14) from the database.
-            self.solver.reset()
-            self._configure_solver()
-            self.solver.solve(self.b, self.x)
-        if self.solver.getConvergedReason() < 0:
-            raise RuntimeError(
-                "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
-            )
-        self._check_residual()
-        self._scatter()
+            ksp.reset()
+            configure()
+            ksp.solve(b, x)
 
     def _scatter(self) -> None:
         """Copy the solution :attr:`x` into :attr:`u` and :attr:`multipliers`."""

@@ -745,10 +745,14 @@ class UnilateralContactProblem(LinearContactProblem):
                     minus_C.multTranspose(w, work)
                     F.copy(rhs)
                     rhs.axpy(-1.0, work)
-                    ksp.setOperators(P)
-                    self.options.apply(ksp)
+
+                    def configure(P: PETSc.Mat = P) -> None:
+                        ksp.setOperators(P)
+                        self.options.apply(ksp)
+
+                    configure()
                     with self._timed("solve"):
-                        ksp.solve(rhs, U)
+                        self._solve_retrying(ksp, configure, rhs, U)
                         self._check_linear(ksp, P, rhs, U)
                     WC.destroy()
                     P.destroy()
