@@ -553,9 +553,15 @@ class LinearContactProblem:
         return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
 
     def _choose_factorization(self) -> None:
-        """The default ``pc_type``: :math:`LDL^T` if :attr:`symmetric`, else LU."""
+        """The default ``pc_type``: :math:`LDL^T` if :attr:`symmetric`, else LU.
+
+        Only a default factorization is adapted: a ``pc_type`` from ``petsc_options``, the
+        database, or a subclass's :meth:`_default_options` other than ``"lu"`` and
+        ``"cholesky"`` (``"fieldsplit"``, say) is left alone.
+        """
         assert self.A is not None
-        self.options.set_default("pc_type", "cholesky" if self.symmetric else "lu")
+        if self.options.get("pc_type") in ("lu", "cholesky"):
+            self.options.set_default("pc_type", "cholesky" if self.symmetric else "lu")
         self.A.setOption(PETSc.Mat.Option.SYMMETRIC, self.symmetric)
 
     def _configure_solver(self) -> None:

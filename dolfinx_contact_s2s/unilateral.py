@@ -583,7 +583,8 @@ class UnilateralContactProblem(LinearContactProblem):
         J.diagonalScale(S)
         # S A is not symmetric: the default factorization is LU here.
         J.setOption(PETSc.Mat.Option.SYMMETRIC, False)
-        self.options.set_default("pc_type", "lu")
+        if self.options.get("pc_type") == "cholesky":
+            self.options.set_default("pc_type", "lu")
         # The semismooth VI types add to the diagonal, absent from the multiplier block.
         J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         Sb = self.b.copy()
