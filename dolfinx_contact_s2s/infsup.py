@@ -1,6 +1,11 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""The inf-sup test of Eqs. (26)-(32) for large meshes: one factorization and SLEPc.
+r"""The inf-sup test of Eqs. (26)-(32) for large meshes: one factorization.
+
+By default MUMPS also returns the Schur complement on the multipliers (ICNTL(19)), a
+dense matrix as small as the contact line, whose generalized eigenproblem is solved
+densely: the test costs one factorization. Beyond :data:`SCHUR_LIMIT` multipliers,
+SLEPc finds the smallest eigenvalue with back-substitutions instead.
 
 The dense reference, exactly as the paper states the test, is
 :func:`dolfinx_contact_s2s.stability.inf_sup_dense`; both take any
@@ -17,7 +22,12 @@ import numpy.typing as npt
 import scipy.linalg
 
 from dolfinx_contact_s2s.options import PETScOptions
-from dolfinx_contact_s2s.petsc import gather_dense, multiplier_mass
+from dolfinx_contact_s2s.petsc import (
+    gather_dense,
+    multiplier_mass,
+    schur_complement,
+    set_schur_indices,
+)
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.stability import (
     InfSup,
@@ -28,7 +38,11 @@ from dolfinx_contact_s2s.stability import (
     stack_pairs,
 )
 
-__all__ = ["InfSupTest", "inf_sup"]
+__all__ = ["SCHUR_LIMIT", "InfSupTest", "inf_sup"]
+
+#: Most multipliers for which the dense Schur complement is formed by default (its
+#: size grows with their square: 5,000 take 200 MB on process 0).
+SCHUR_LIMIT = 5000
 
 
 class _InverseSchur:
@@ -68,7 +82,15 @@ class InfSupTest:
     .. math:: \mathbf A_\tau = \begin{bmatrix} \mathbf S & \mathbf B^T \\
         \mathbf B & \tau h \mathbf P \end{bmatrix},
 
-    factorized once (symmetric indefinite :math:`LDL^T`, MUMPS). Since :math:`\mathbf
+    factorized once (symmetric indefinite :math:`LDL^T`, MUMPS).
+
+    With ``schur`` (the default up to :data:`SCHUR_LIMIT` multipliers), the
+    factorization also yields the dense Schur complement :math:`\mathbf C = \tau h
+    \mathbf P - \Sigma` (MUMPS's ICNTL(19)), and the pencil :math:`(\tau h \mathbf P -
+    \mathbf C, h \mathbf P)` is solved densely: every eigenvalue, the pressure modes
+    (those :math:`\le \tau`) included, for the cost of one factorization.
+
+    Otherwise, since :math:`\mathbf
     S` is positive definite, Sylvester's law of inertia gives the number of negative
     pivots of :math:`\mathbf A_\tau` as the number of eigenvalues :math:`\lambda >
     \tau`, so that
@@ -95,6 +117,7 @@ class InfSupTest:
         petsc_options_prefix: str = "infsup_",
         petsc_options: dict | None = None,
         shift: float = 1e-10,
+        schur: bool | None = None,
     ):
         r"""Assemble and factorize the saddle-point matrix.
 
@@ -110,6 +133,9 @@ class InfSupTest:
                 defaults, MUMPS :math:`LDL^T`, yield to them and to the database.
             shift: :math:`\tau`: eigenvalues :math:`\beta^{*2} \le \tau` count as
                 pressure modes.
+            schur: Form the dense Schur complement on the multipliers in the
+                factorization (MUMPS ICNTL(19)) and solve the eigenproblem densely;
+                ``None``: if there are at most :data:`SCHUR_LIMIT` multipliers.
         """
         if not h > 0:
             raise ValueError(f"the element size h must be positive, not {h}")
@@ -182,6 +208,10 @@ class InfSupTest:
             sub = self._scaling.getSubVector(is_m)
             sub.array[:] = d.array_r
             self._scaling.restoreSubVector(is_m, sub)
+        # S now lives in A alone: no second copy beside the factorization.
+        for obj in [self._nest, self._P_nest, *self._S, *self._owned]:
+            obj.destroy()
+        self._S, self._owned = [], []
 
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOperators(self.A)
@@ -192,12 +222,55 @@ class InfSupTest:
         pc.setFactorSetUpSolverType()
         F = pc.getFactorMatrix()
         F.setMumpsIcntl(13, 1)  # inertia of the root front too (no ScaLAPACK there)
+        #: Whether the eigenproblem is solved densely on MUMPS's Schur complement.
+        self.schur = self.constraints <= SCHUR_LIMIT if schur is None else bool(schur)
+        schur_rows, order = self._schur_rows() if self.schur else (None, None)
+        if schur_rows is not None:
+            set_schur_indices(F, schur_rows)
         self.ksp.setUp()
         if F.getMumpsInfog(1) < 0:
             raise RuntimeError(f"MUMPS failed to factorize (INFOG(1) = {F.getMumpsInfog(1)})")
-        negative = int(F.getMumpsInfog(12))
-        #: :math:`k_{pm}`: the eigenvalues :math:`\lambda \le \tau`, from the inertia.
-        self.pressure_modes = self.constraints - negative
+        #: The dense Schur complement :math:`\tau \mathbf P - \Sigma` (scaled
+        #: multipliers, in the order of :attr:`P`), with ``schur``.
+        self.C: npt.NDArray[np.floating] | None = None
+        #: Every eigenvalue of the pencil, ascending, with ``schur``.
+        self.eigenvalues: npt.NDArray[np.floating] | None = None
+        if schur_rows is not None:
+            assert order is not None
+            C = np.empty((self.constraints, self.constraints))
+            C[np.ix_(order, order)] = schur_complement(F)
+            self.C = C
+            P = gather_dense(self.P)
+            self.eigenvalues = scipy.linalg.eigh(self.shift * P - C, P, eigvals_only=True)
+            schur_rows.destroy()
+            #: :math:`k_{pm}`: the eigenvalues :math:`\lambda \le \tau`.
+            self.pressure_modes = int(np.count_nonzero(self.eigenvalues <= self.shift))
+        else:
+            negative = int(F.getMumpsInfog(12))
+            # k_pm: the eigenvalues lambda <= tau, from the inertia.
+            self.pressure_modes = self.constraints - negative
+
+    def _schur_rows(self) -> tuple[PETSc.IS, npt.NDArray[np.int64]]:
+        """The multipliers' rows of :attr:`A`, all on process 0 (as PETSc wants them).
+
+        Returns:
+            The index set (sorted; empty except on process 0) and, for each of its
+            entries, the position of the multiplier in :attr:`P`.
+        """
+        saddle = np.concatenate([is_.getIndices() for is_ in self._is_saddle] or [[]])
+        mult = np.concatenate([is_.getIndices() for is_ in self._is_mult] or [[]])
+        parts = self.comm.gather((saddle.astype(np.int64), mult.astype(np.int64)), root=0)
+        rows = np.zeros(0, dtype=PETSc.IntType)
+        order = np.zeros(0, dtype=np.int64)
+        if self.comm.rank == 0:
+            assert parts is not None
+            all_saddle = np.concatenate([a for a, _ in parts])
+            all_mult = np.concatenate([b for _, b in parts])
+            sort = np.argsort(all_saddle)
+            rows = all_saddle[sort].astype(PETSc.IntType)
+            order = all_mult[sort]
+        order = self.comm.bcast(order, root=0)
+        return PETSc.IS().createGeneral(rows, comm=self.comm), order
 
     @staticmethod
     def _dirichlet_count(problem: LinearContactProblem) -> int:
@@ -220,10 +293,21 @@ class InfSupTest:
         Raises:
             RuntimeError: On every rank, if SLEPc does not converge.
         """
-        from slepc4py import SLEPc
-
         if self.pressure_modes > 0:
             return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
+        if self.eigenvalues is not None:
+            lam = tuple(float(x) for x in self.eigenvalues[:eigenvalues])
+            return InfSup(
+                float(np.sqrt(lam[0])),
+                0,
+                self.constraints,
+                self.displacements,
+                self.h,
+                eigenvalues=lam,
+                solves=0,
+            )
+        from slepc4py import SLEPc
+
         context = _InverseSchur(self)
         n_local = self.P.getLocalSize()[0]
         op = PETSc.Mat().createPython([[n_local, self.constraints]] * 2, context, comm=self.comm)
@@ -271,8 +355,12 @@ class InfSupTest:
         r"""Dense :math:`(\Sigma - \tau \mathbf P)^{-1}`, scaled, on every process.
 
         One back-substitution per multiplier, ``block`` right-hand sides at a time
-        (``MatMatSolve``): meant for a moderate number :math:`n` of multipliers.
+        (``MatMatSolve``): meant for a moderate number :math:`n` of multipliers. With
+        ``schur``: :math:`-\mathbf C^{-1}`, no back-substitution.
         """
+        if self.C is not None:
+            Y = -np.linalg.inv(self.C)
+            return 0.5 * (Y + Y.T)
         n = self.constraints
         Y = np.zeros((n, n))
         start, end = self.P.getOwnershipRange()
@@ -333,7 +421,7 @@ class InfSupTest:
             self.displacements,
             self.h,
             eigenvalues=tuple(float(x) for x in lam),
-            solves=self.constraints,
+            solves=0 if self.C is not None else self.constraints,
         )
 
     def _dense_order(self, problem: LinearContactProblem) -> npt.NDArray[np.int64]:
@@ -376,8 +464,6 @@ class InfSupTest:
             self.ksp,
             self.A,
             self.P,
-            self._nest,
-            self._P_nest,
             self._rhs,
             self._sol,
             self._z,

@@ -49,10 +49,14 @@ class PETScOptions:
         self._db = PETSc.Options()
         # name -> value it had before (None: not set), to restore on clear().
         self._replaced: dict[str, str | None] = {}
+        #: Keys whose value is the package's default (neither ``options`` nor the
+        #: database set them): the package may still adapt them, see :meth:`set_default`.
+        self.defaulted: set[str] = set()
         options = dict(options or {})
         for key, value in (defaults or {}).items():
             if key not in options and not self._db.hasName(self.name(key)):
-                self.set(key, value)
+                self._put(key, value)
+                self.defaulted.add(key.lstrip("-"))
         for key, value in options.items():
             self.set(key, value)
 
@@ -61,13 +65,27 @@ class PETScOptions:
         return f"{self.prefix}{key.lstrip('-')}"
 
     def set(self, key: str, value: typing.Any) -> None:
-        """Set ``key`` under the prefix (until :meth:`clear`)."""
+        """Set ``key`` under the prefix (until :meth:`clear`): the caller's choice."""
+        self.defaulted.discard(key.lstrip("-"))
+        self._put(key, value)
+
+    def _put(self, key: str, value: typing.Any) -> None:
         name = self.name(key)
         if name not in self._replaced:
             self._replaced[name] = self._db.getString(name) if self._db.hasName(name) else None
         if isinstance(value, bool):
             value = "true" if value else "false"
         self._db[name] = value
+
+    def set_default(self, key: str, value: typing.Any) -> bool:
+        """Set ``key`` if its value is the package's default; return whether it was.
+
+        The caller's choice (``petsc_options``, the command line) always wins.
+        """
+        if key.lstrip("-") not in self.defaulted:
+            return False
+        self._put(key, value)
+        return True
 
     def get(self, key: str, default: str | None = None) -> str | None:
         """Value of ``key`` under the prefix in the database."""
@@ -90,6 +108,7 @@ class PETScOptions:
             else:
                 self._db[name] = previous
         self._replaced.clear()
+        self.defaulted.clear()
 
 
 #: MUMPS errors that more workspace cures (INFOG(1), MUMPS user's guide, section 8).

@@ -38,14 +38,21 @@ from dolfinx_contact_s2s.options import (
     mumps_factor,
     solver_failure,
 )
-from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling
+from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling, is_symmetric
 
 __all__ = ["DEFAULT_OPTIONS", "TIMINGS", "LinearContactProblem"]
 
 logger = logging.getLogger(__name__)
 
-#: Solver defaults; each yields to ``petsc_options`` and to the options database.
-DEFAULT_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+#: Solver defaults; each yields to ``petsc_options`` and to the options database. The
+#: default ``pc_type`` is MUMPS :math:`LDL^T` (``"cholesky"`` on an AIJ matrix: MUMPS's
+#: general symmetric mode, SYM = 2, for the indefinite saddle point) when every
+#: :math:`\mathbf K` is symmetric, and ``"lu"`` otherwise.
+DEFAULT_OPTIONS = {
+    "ksp_type": "preonly",
+    "pc_type": "cholesky",
+    "pc_factor_mat_solver_type": "mumps",
+}
 
 #: The stages of :attr:`LinearContactProblem.timings`.
 TIMINGS = ("stiffness", "contact", "system", "solve")
@@ -118,6 +125,14 @@ class LinearContactProblem:
       :math:`\|\mathbf b - \mathbf A \mathbf x\| / \|\mathbf b\|` above
       ``residual_tolerance`` raises :class:`RuntimeError`. A MUMPS workspace error is
       met by doubling ICNTL(14), up to :attr:`workspace_retries` times.
+    - The system is symmetric when every :math:`\mathbf K` is (an inactive multiplier
+      loses its column with its row): :attr:`symmetric`, decided on the assembled
+      :math:`\mathbf K` (:func:`~dolfinx_contact_s2s.petsc.is_symmetric`). The default
+      factorization is then MUMPS :math:`LDL^T`, else LU (logged). A ``pc_type`` in
+      ``petsc_options`` or the options database is never changed.
+    - With ``kind="aij"``, :math:`\mathbf K` is stored once: inside :attr:`A` once the
+      saddle point is built (:attr:`stiffness` is then released;
+      :meth:`stiffness_matrix` gives a copy).
 
     Usable as a context manager; otherwise call :meth:`destroy`.
     """
@@ -146,8 +161,9 @@ class LinearContactProblem:
             petsc_options_prefix: Non-empty prefix of the solver's options.
             petsc_options: Options set under the prefix, e.g. ``{"ksp_type": "gmres"}``;
                 they reach every object that reads them, the factorization included.
-                Defaults: :data:`DEFAULT_OPTIONS` (MUMPS LU), each yielding to these
-                and to the options database (command line, ``PETSC_OPTIONS``).
+                Defaults: :data:`DEFAULT_OPTIONS` (MUMPS :math:`LDL^T` for a symmetric
+                system, LU otherwise), each yielding to these and to the options
+                database (command line, ``PETSC_OPTIONS``).
             kind: ``"aij"`` (one assembled matrix, for direct solvers) or ``"nest"``
                 (the ``MatNest`` of the blocks, for field-split solvers).
             residual_tolerance: Largest relative residual of a trusted solve.
@@ -189,7 +205,9 @@ class LinearContactProblem:
         self.multipliers = [
             dolfinx.fem.Function(pair.Q, name=f"lambda{j}") for j, pair in enumerate(self.pairs)
         ]
-        self.stiffness = [dolfinx.fem.petsc.create_matrix(ai) for ai in self.a]
+        self._K: list[PETSc.Mat] = []
+        #: Whether every assembled :math:`\mathbf K` is symmetric (set by :meth:`assemble`).
+        self.symmetric = True
         self._loads = [_create_vector(V) for V in self.spaces]
         # The bodies (connected components) and their rigid modes depend on the meshes
         # only: found once, used by the support check and given to GAMG.
@@ -198,8 +216,7 @@ class LinearContactProblem:
             checks.near_nullspace(V, labels)
             for V, labels in zip(self.spaces, self._labels, strict=True)
         ]
-        for K, ns in zip(self.stiffness, self.near_nullspaces, strict=True):
-            K.setNearNullSpace(ns)
+        self._create_stiffness()
         self.operators: list[CouplingOperator] = []
         self.constraints: list[list[tuple[int, PETSc.Mat]]] = []
         self.A: PETSc.Mat | None = None
@@ -231,6 +248,58 @@ class LinearContactProblem:
             yield
         finally:
             self.timings[stage] += time.perf_counter() - begin
+
+    def _create_stiffness(self) -> None:
+        r"""Allocate :math:`\mathbf K` of every space, with its rigid modes for GAMG."""
+        self._K = [dolfinx.fem.petsc.create_matrix(ai) for ai in self.a]
+        for K, ns in zip(self._K, self.near_nullspaces, strict=True):
+            K.setNearNullSpace(ns)
+
+    def _release_stiffness(self) -> None:
+        for K in self._K:
+            K.destroy()
+        self._K = []
+
+    @property
+    def stiffness(self) -> list[PETSc.Mat]:
+        r"""Assembled :math:`\mathbf K` of every space (Dirichlet rows and columns unit).
+
+        With ``kind="aij"`` only until the saddle point is built: :math:`\mathbf K` is
+        then stored in :attr:`A` alone; use :meth:`stiffness_matrix`.
+
+        Raises:
+            RuntimeError: If it was released into :attr:`A`.
+        """
+        if not self._K:
+            raise RuntimeError(
+                "K is stored only in the saddle-point matrix A (kind='aij'): use "
+                "problem.stiffness_matrix(i) for a copy"
+            )
+        return self._K
+
+    def stiffness_matrix(self, i: int) -> PETSc.Mat:
+        r"""A copy of the assembled :math:`\mathbf K` of space ``i``; the caller destroys it."""
+        if self._K:
+            return self._K[i].copy()
+        if self.A is None:
+            raise RuntimeError("assemble the problem first")
+        is_ = list(self.fields.values())[i]
+        K = self.A.createSubMatrix(is_, is_)
+        K.setNearNullSpace(self.near_nullspaces[i])
+        return K
+
+    def stiffness_diagonal(self, i: int) -> PETSc.Vec:
+        r"""The diagonal of :math:`\mathbf K` of space ``i``; the caller destroys it."""
+        if self._K:
+            return self._K[i].getDiagonal()
+        if self.A is None:
+            raise RuntimeError("assemble the problem first")
+        d = self.A.getDiagonal()
+        sub = d.getSubVector(list(self.fields.values())[i])
+        out = sub.copy()
+        d.restoreSubVector(list(self.fields.values())[i], sub)
+        d.destroy()
+        return out
 
     def _default_options(self) -> dict[str, typing.Any]:
         """Solver defaults of this problem; each yields to ``petsc_options`` and the database."""
@@ -323,9 +392,11 @@ class LinearContactProblem:
                 constraints are redundant.
         """
         self._destroy_assembly()
+        if not self._K:
+            self._create_stiffness()
         with self._timed("stiffness"):
             for K, F, ai, Li, bcs in zip(
-                self.stiffness, self._loads, self.a, self.L, self.bcs_by_space, strict=True
+                self._K, self._loads, self.a, self.L, self.bcs_by_space, strict=True
             ):
                 K.zeroEntries()
                 dolfinx.fem.petsc.assemble_matrix(K, ai, bcs=bcs)
@@ -337,6 +408,7 @@ class LinearContactProblem:
                 F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
                 dolfinx.fem.petsc.set_bc(F, bcs)
         with self._timed("system"):
+            self._decide_symmetry()
             self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
             self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
             self._owned.extend(self._masks + self._values)
@@ -355,6 +427,18 @@ class LinearContactProblem:
                 self._check_redundancy(self._masks)
         self._build_system()
 
+    def _decide_symmetry(self) -> None:
+        r"""Set :attr:`symmetric` from the assembled :math:`\mathbf K` (collective)."""
+        flags = [is_symmetric(K) for K in self._K]
+        self.symmetric = all(flags)
+        if not self.symmetric:
+            spaces = ", ".join(str(i) for i, f in enumerate(flags) if not f)
+            logger.info(
+                "K of space(s) %s is not symmetric: the saddle point is factorized by "
+                "LU, not LDL^T",
+                spaces,
+            )
+
     def _build_system(
         self, released: Sequence[npt.NDArray[np.int64]] | None = None, load: float = 1.0
     ) -> None:
@@ -371,10 +455,16 @@ class LinearContactProblem:
     def _assemble_system(
         self, released: Sequence[npt.NDArray[np.int64]] | None, load: float
     ) -> None:
-        self._destroy_system()
         nb, npairs = len(self.spaces), len(self.pairs)
+        # K lives in the previous A only (kind="aij"): take it out before A goes, and
+        # free the previous factorization first, so that K is never stored twice
+        # beside a factor.
+        extracted = [] if self._K else [self.stiffness_matrix(i) for i in range(nb)]
+        if extracted:
+            self.solver.reset()
+        self._destroy_system()
         blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
-        for i, K in enumerate(self.stiffness):
+        for i, K in enumerate(self._K or extracted):
             blocks[i][i] = K
         rhs: list[PETSc.Vec] = []
         for F in self._loads:
@@ -420,16 +510,23 @@ class LinearContactProblem:
 
         nest = PETSc.Mat().createNest(blocks, comm=self.comm)
         nest.assemble()
-        self._system.append(nest)
         index_sets = nest.getNestISs()[0]
         names = [f"u{i}" for i in range(nb)] + [f"lambda{j}" for j in range(npairs)]
         self.fields = dict(zip(names, index_sets, strict=True))
+        self._system.extend(index_sets)
         if self.kind == "nest":
             self.A = nest
+            self.b = self._plain_vector(nest)
+            self._system.append(nest)
         else:
             self.A = nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
+            # K now lives in A: no second copy (the nest, K and the extracted copies).
+            nest.destroy()
+            for K in extracted:
+                K.destroy()
+            self._release_stiffness()
             self._system.append(self.A)
-        self.b = self.A.createVecLeft() if self.kind == "aij" else self._plain_vector(nest)
+            self.b = self.A.createVecLeft()
         self.x = self.b.duplicate()
         self._system.extend([self.b, self.x])
         for is_, v in zip(index_sets, rhs, strict=True):
@@ -455,9 +552,22 @@ class LinearContactProblem:
         n, N = nest.getSizes()[0]
         return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
 
+    def _choose_factorization(self) -> None:
+        """The default ``pc_type``: :math:`LDL^T` if :attr:`symmetric`, else LU.
+
+        Only a default factorization is adapted: a ``pc_type`` from ``petsc_options``, the
+        database, or a subclass's :meth:`_default_options` other than ``"lu"`` and
+        ``"cholesky"`` (``"fieldsplit"``, say) is left alone.
+        """
+        assert self.A is not None
+        if self.options.get("pc_type") in ("lu", "cholesky"):
+            self.options.set_default("pc_type", "cholesky" if self.symmetric else "lu")
+        self.A.setOption(PETSc.Mat.Option.SYMMETRIC, self.symmetric)
+
     def _configure_solver(self) -> None:
         """Operator, options and named fields (``-prefix_pc_type fieldsplit``) of the solver."""
         assert self.A is not None
+        self._choose_factorization()
         self.solver.setOperators(self.A)
         self.options.apply(self.A, suffixes=["A_"])
         self.options.apply(self.solver)
@@ -467,7 +577,7 @@ class LinearContactProblem:
         constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
         motions = checks.unsupported_motions(
             self.spaces,
-            self.stiffness,
+            self._K,
             masks,
             constraints,
             [op.inactive for op in self.operators],
@@ -532,10 +642,29 @@ class LinearContactProblem:
 
     def _solve_checked(self) -> None:
         assert self.A is not None and self.b is not None and self.x is not None
-        self.solver.solve(self.b, self.x)
+        self._solve_retrying(self.solver, self._configure_solver, self.b, self.x)
+        if self.solver.getConvergedReason() < 0:
+            raise RuntimeError(
+                "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
+            )
+        self._check_residual()
+        self._scatter()
+
+    def _solve_retrying(
+        self, ksp: PETSc.KSP, configure: typing.Callable[[], None], b: PETSc.Vec, x: PETSc.Vec
+    ) -> None:
+        """``ksp.solve(b, x)``; a MUMPS workspace error is met by doubling ICNTL(14).
+
+        Args:
+            ksp: The solver, configured.
+            configure: Gives the reset ``ksp`` its operator and options again.
+            b: Right-hand side.
+            x: Solution.
+        """
+        ksp.solve(b, x)
         for _ in range(self.workspace_retries):
-            F = mumps_factor(self.solver)
-            if self.solver.getConvergedReason() >= 0 or F is None:
+            F = mumps_factor(ksp)
+            if ksp.getConvergedReason() >= 0 or F is None:
                 break
             if F.getMumpsInfog(1) not in MUMPS_WORKSPACE_ERRORS:
                 break
@@ -543,15 +672,9 @@ class LinearContactProblem:
             logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
             self.options.set("mat_mumps_icntl_14", icntl)
             # A new factor reads the raised ICNTL(14) from the database.
-            self.solver.reset()
-            self._configure_solver()
-            self.solver.solve(self.b, self.x)
-        if self.solver.getConvergedReason() < 0:
-            raise RuntimeError(
-                "the contact solve failed: " + solver_failure(self.solver, self.options.prefix)
-            )
-        self._check_residual()
-        self._scatter()
+            ksp.reset()
+            configure()
+            ksp.solve(b, x)
 
     def _scatter(self) -> None:
         """Copy the solution :attr:`x` into :attr:`u` and :attr:`multipliers`."""
@@ -606,7 +729,7 @@ class LinearContactProblem:
     def destroy(self) -> None:
         """Destroy the PETSc objects and remove the problem's options from the database."""
         self._destroy_assembly()
-        for obj in [self.solver, *self.stiffness, *self._loads, *self.near_nullspaces]:
+        for obj in [self.solver, *self._K, *self._loads, *self.near_nullspaces]:
             obj.destroy()
         self.options.clear()
 

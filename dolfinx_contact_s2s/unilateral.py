@@ -288,8 +288,8 @@ class UnilateralContactProblem(LinearContactProblem):
     def _stiffness_scale(self) -> float:
         """Median diagonal entry of the stiffness over the free dofs of all spaces."""
         local = []
-        for K, mask in zip(self.stiffness, self._masks, strict=True):
-            d = K.getDiagonal()
+        for i, mask in enumerate(self._masks):
+            d = self.stiffness_diagonal(i)
             local.append(d.array_r[mask.array_r > 0])
             d.destroy()
         values = np.concatenate(self.comm.allgather(np.concatenate(local)))
@@ -581,6 +581,10 @@ class UnilateralContactProblem(LinearContactProblem):
                 vec.restoreSubVector(is_, sub)
         J = self.A.copy()
         J.diagonalScale(S)
+        # S A is not symmetric: the default factorization is LU here.
+        J.setOption(PETSc.Mat.Option.SYMMETRIC, False)
+        if self.options.get("pc_type") == "cholesky":
+            self.options.set_default("pc_type", "lu")
         # The semismooth VI types add to the diagonal, absent from the multiplier block.
         J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         Sb = self.b.copy()
@@ -742,10 +746,14 @@ class UnilateralContactProblem(LinearContactProblem):
                     minus_C.multTranspose(w, work)
                     F.copy(rhs)
                     rhs.axpy(-1.0, work)
-                    ksp.setOperators(P)
-                    self.options.apply(ksp)
+
+                    def configure(P: PETSc.Mat = P) -> None:
+                        ksp.setOperators(P)
+                        self.options.apply(ksp)
+
+                    configure()
                     with self._timed("solve"):
-                        ksp.solve(rhs, U)
+                        self._solve_retrying(ksp, configure, rhs, U)
                         self._check_linear(ksp, P, rhs, U)
                     WC.destroy()
                     P.destroy()

@@ -46,15 +46,17 @@ SOLVABLE = [
 ]
 
 
+@pytest.mark.parametrize("schur", [True, False], ids=["schur", "slepc"])
 @pytest.mark.parametrize("case", SOLVABLE, ids=str)
 @pytest.mark.parametrize("n", [1, 2])
-def test_scalable_matches_dense(case, n):
-    """SLEPc on the multiplier pencil equals the paper's Eq. (30) solved densely."""
+def test_scalable_matches_dense(case, n, schur):
+    """MUMPS's Schur complement, and SLEPc on the multiplier pencil, equal Eq. (30) densely."""
     if case.degree == 2 and n == 2:
         pytest.skip("the dense reference of a quadratic level 2 takes too long for the suite")
     problem, h = inf_sup_problem(comm, case, n)
     dense = inf_sup_dense(problem, h)
-    test = InfSupTest(problem, h)
+    test = InfSupTest(problem, h, schur=schur)
+    assert test.schur == schur
     scalable = test.solve()
     full = test.beta_full(problem)
     test.destroy()
@@ -104,16 +106,19 @@ def test_nodal_force_and_pressure_multipliers_agree():
     ids=str,
 )
 def test_pressure_modes(case, n, modes):
-    """Eq. (32)'s count, the SVD rank of B (Eq. 35) and the inertia agree."""
+    """Eq. (32)'s count, the SVD rank of B (Eq. 35), the inertia and the Schur pencil agree."""
     problem, h = inf_sup_problem(comm, case, n)
     dense = inf_sup_dense(problem, h, full=False)
     svd = solvability(problem)
-    test = InfSupTest(problem, h)
-    result = test.solve()
-    test.destroy()
+    counts, betas = [], []
+    for schur in (False, True):
+        test = InfSupTest(problem, h, schur=schur)
+        betas.append(test.solve().beta)
+        counts.append(test.pressure_modes)
+        test.destroy()
     problem.destroy()
-    assert dense.pressure_modes == svd.redundant == test.pressure_modes == modes
-    assert dense.beta == result.beta == 0.0
+    assert dense.pressure_modes == svd.redundant == counts[0] == counts[1] == modes
+    assert dense.beta == betas[0] == betas[1] == 0.0
     if case.multiplier == ("DG", 1):
         n_c, n_t = (10 * n, 7 * n) if case.family == "10n/7n" else (5 * n, 2 * n + 1)
         assert modes >= 2 * n_c - (n_c + 1) - (n_t + 1)

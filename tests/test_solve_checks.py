@@ -106,7 +106,7 @@ def test_options_live_with_the_problem_and_are_restored():
     options["scope_ksp_rtol"] = "1e-3"
     problem = readme_problem(prefix="scope_", petsc_options={"ksp_rtol": 1e-9})
     assert options.getReal("scope_ksp_rtol") == pytest.approx(1e-9)
-    assert options.getString("scope_pc_type") == "lu"  # a default
+    assert options.getString("scope_pc_type") == "cholesky"  # a default (MUMPS LDL^T)
     problem.destroy()
     assert options.getReal("scope_ksp_rtol") == pytest.approx(1e-3)
     assert not options.hasName("scope_pc_type")
@@ -122,7 +122,8 @@ def test_database_options_beat_the_defaults():
         with readme_problem(prefix="cli_") as problem:
             problem.solve()
             assert problem.solver.getType() == "gmres"
-            assert problem.solver.getPC().getType() == "lu"
+            # The default factorization of a symmetric system: LDL^T.
+            assert problem.solver.getPC().getType() == "cholesky"
             assert max_pressure_error(problem) < 1e-10
     finally:
         options.delValue("cli_ksp_type")
@@ -130,8 +131,9 @@ def test_database_options_beat_the_defaults():
 
 
 #: No workspace beyond MUMPS's estimate (ICNTL(14) = 0), and a pivoting threshold (CNTL(1))
-#: that delays many pivots of the saddle point's zero block: INFOG(1) = -9.
-TIGHT_WORKSPACE = {"mat_mumps_icntl_14": 0, "mat_mumps_cntl_1": 0.9}
+#: that delays many pivots of the saddle point's zero block: INFOG(1) = -9. With LU: the
+#: 2x2 pivots of the default LDL^T take the zero block without delays.
+TIGHT_WORKSPACE = {"pc_type": "lu", "mat_mumps_icntl_14": 0, "mat_mumps_cntl_1": 0.9}
 
 
 def test_mumps_workspace_error_is_provoked():
