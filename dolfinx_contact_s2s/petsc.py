@@ -11,6 +11,7 @@ rows to copies. This module needs petsc4py and must be imported explicitly, as
 from __future__ import annotations
 
 import ctypes
+import types
 import typing
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -25,6 +26,7 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s.coupling import ContactPair
+from dolfinx_contact_s2s.kernels import numpy_backend
 
 __all__ = [
     "SYMMETRY_TOLERANCE",
@@ -63,13 +65,14 @@ def _coo_matrix(
     row_map: dolfinx.common.IndexMap,
     col_map: dolfinx.common.IndexMap,
     col_bs: int,
+    backend: types.ModuleType = numpy_backend,
 ) -> PETSc.Mat:
     """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)``.
 
     Each part holds blocks ``values[s, i, j]`` at ``(rows[s, i], cols[s, j])``.
     Entries may belong to rows owned by other processes: they are sent to their
-    owners, duplicates are summed, and the matrix is created from its exact CSR
-    structure.
+    owners, duplicates are summed (the kernel backend's ``coo_to_csr``), and the
+    matrix is created from its exact CSR structure.
     """
     flat_i, flat_j, flat_v = [], [], []
     for rows, cols, values in parts:
@@ -83,10 +86,7 @@ def _coo_matrix(
     i, (j, v) = _to_owners(comm, i, [j, np.concatenate(flat_v)], row_starts)
     start = row_map.local_range[0]
     n_cols = col_map.size_global * col_bs
-    keys, inverse = np.unique((i - start) * n_cols + j, return_inverse=True)
-    data = np.bincount(inverse.reshape(-1), weights=v, minlength=keys.size)
-    local_rows, indices = np.divmod(keys, n_cols)
-    indptr = np.searchsorted(local_rows, np.arange(row_map.size_local + 1))
+    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start, j, v)
     A = PETSc.Mat().createAIJ(
         [
             [row_map.size_local, row_map.size_global],
@@ -193,6 +193,7 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
     """
     groups = pair.coupling_blocks()
     comm = pair.contactor.comm
+    backend = pair.contactor.backend
     if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:
         raise ValueError(
             "the contactor and target surfaces never face each other within the search "
@@ -215,7 +216,7 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
         add(pair.contactor.V, (b.rows, b.cols_contactor, b.values_contactor))
         add(b.target.V, (b.rows, b.cols_target, b.values_target))
     blocks = [
-        (V, _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs))
+        (V, _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend))
         for V, p in zip(spaces, parts, strict=True)
     ]
     G = PETSc.Vec().createMPI([q_map.size_local, q_map.size_global], comm=comm)
