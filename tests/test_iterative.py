@@ -145,3 +145,57 @@ def test_bad_options():
     with pytest.raises(ValueError, match="at least one"):
         iterative_options(spaces=0)
     assert callable(SchurComplementSetup())
+
+
+def _rectangle(x0, y0, nx, ny, tags):
+    """A clamped-ready block ``[x0, x0 + 1] x [y0, y0 + 0.5]`` with tagged bottom and top."""
+    mesh = dolfinx.mesh.create_rectangle(
+        comm,
+        [np.array([x0, y0]), np.array([x0 + 1.0, y0 + 0.5])],
+        [nx, ny],
+        cell_type=dolfinx.mesh.CellType.quadrilateral,
+    )
+    fdim = mesh.topology.dim - 1
+    bottom = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[1], y0))
+    top = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[1], y0 + 0.5))
+    facets = np.concatenate([bottom, top])
+    values = np.concatenate([np.full(bottom.size, tags[0]), np.full(top.size, tags[1])])
+    order = np.argsort(facets)
+    return mesh, dolfinx.mesh.meshtags(mesh, fdim, facets[order], values[order].astype(np.int32))
+
+
+def test_overhang_inactive_multipliers():
+    """A contactor hanging a third over the end of its target: uncovered rows read lambda = 0."""
+    bodies = [_rectangle(0.0, 0.0, 21, 10, (1, 2)), _rectangle(1 / 3, 0.49, 15, 7, (3, 4))]
+    spaces, a, L, bcs = [], [], [], []
+    for (mesh, tags), clamped in zip(bodies, (1, 4), strict=True):
+        V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
+        form, _, v = Material(E=1.0, nu=0.3).forms(V)
+        spaces.append(V)
+        a.append(form)
+        L.append(ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(2)), v) * ufl.dx)
+        dofs = dolfinx.fem.locate_dofs_topological(V, 1, tags.find(clamped))
+        bcs.append(dolfinx.fem.dirichletbc(np.zeros(2), dofs, V))
+    pair = contact_pair(
+        contact_surface(spaces[1], bodies[1][1], 3),
+        contact_surface(spaces[0], bodies[0][1], 2),
+        search_radius=0.1,
+    )
+    results = []
+    for solver in ("iterative", "lu"):
+        options = iterative_options(spaces=2) if solver == "iterative" else None
+        with LinearContactProblem(
+            a, L, [pair], bcs, petsc_options_prefix=f"over_{solver}_", petsc_options=options
+        ) as problem:
+            if solver == "iterative":
+                setup = use_schur_complement(problem)
+            problem.solve()
+            uncovered = problem.operators[0].uncovered
+            if solver == "iterative":
+                setup.destroy()
+            results.append(problem.multipliers[0].x.array.copy())
+    # The nodes beyond x = 1 of the 15 upper facets (x = 1/3 + k/15, k = 11..15).
+    assert uncovered.size == 5
+    scale = _max(results[1])
+    assert scale > 0
+    assert _max(results[0] - results[1]) <= 1e-7 * scale
