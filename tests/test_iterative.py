@@ -34,6 +34,8 @@ from dolfinx_contact_s2s.studies.blocks import block_problem
 
 comm = MPI.COMM_WORLD
 LEVELS = (2, 4, 8)
+#: Relative agreement with MUMPS LU: the problem's residual tolerance.
+TOLERANCE = 1e-8
 
 
 def _solve(scene, n, solver, schur="fractional"):
@@ -80,14 +82,13 @@ def test_agrees_with_lu_and_iterations_bounded(models):
         its, u_it, lam_it = _solve(models[n], n, "iterative")
         _, u_lu, lam_lu = _solve(models[n], n, "lu")
         iterations[n] = its
-        # Both solves have relative residuals below 1e-8 (checked by solve()): their
-        # difference is at most cond(A) times that; the blocks are well conditioned
-        # (E = 1 and 3, h >= 1/80), and the FGMRES tolerance is 1e-11.
+        # Agreement to the residual tolerance of every solve, 1e-8 (measured: 4e-12 in
+        # the multiplier, 2e-12 in the displacements; FGMRES stops at 1e-11).
         scale = _max(lam_lu)
         assert scale > 0
-        assert _max(lam_it - lam_lu) <= 1e-7 * scale
+        assert _max(lam_it - lam_lu) <= TOLERANCE * scale
         for a, b in zip(u_it, u_lu, strict=True):
-            assert _max(a - b) <= 1e-7 * _max(b)
+            assert _max(a - b) <= TOLERANCE * _max(b)
     assert iterations[LEVELS[-1]] <= np.sqrt(2) * iterations[LEVELS[0]], iterations
 
 
@@ -136,7 +137,7 @@ def test_one_space_two_bodies():
             results.append(problem.multipliers[0].x.array.copy())
     scale = _max(results[1])
     assert scale > 0
-    assert _max(results[0] - results[1]) <= 1e-7 * scale
+    assert _max(results[0] - results[1]) <= TOLERANCE * scale
 
 
 def test_bad_options():
@@ -198,4 +199,4 @@ def test_overhang_inactive_multipliers():
     assert uncovered.size == 5
     scale = _max(results[1])
     assert scale > 0
-    assert _max(results[0] - results[1]) <= 1e-7 * scale
+    assert _max(results[0] - results[1]) <= TOLERANCE * scale
