@@ -83,7 +83,7 @@ def test_agrees_with_lu_and_iterations_bounded(models):
         _, u_lu, lam_lu = _solve(models[n], n, "lu")
         iterations[n] = its
         # Agreement to the residual tolerance of every solve, 1e-8 (measured: 4e-12 in
-        # the multiplier, 2e-12 in the displacements; FGMRES stops at 1e-11).
+        # the multiplier, 2e-12 in the displacements; GMRES stops at 1e-11).
         scale = _max(lam_lu)
         assert scale > 0
         assert _max(lam_it - lam_lu) <= TOLERANCE * scale
