@@ -236,6 +236,9 @@ class LinearContactProblem:
         #: (the saddle point and the checks) and ``"solve"`` (factorizations and solves).
         self.timings: dict[str, float] = dict.fromkeys(TIMINGS, 0.0)
 
+        #: Called as ``solver_setup(self)`` each time the solver is configured for a new
+        #: system, e.g. :class:`dolfinx_contact_s2s.solvers.SchurComplementSetup`.
+        self.solver_setup: typing.Callable[[LinearContactProblem], None] | None = None
         self.options = PETScOptions(petsc_options_prefix, petsc_options, self._default_options())
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
@@ -572,6 +575,8 @@ class LinearContactProblem:
         self.options.apply(self.A, suffixes=["A_"])
         self.options.apply(self.solver)
         self.solver.getPC().setFieldSplitIS(*self.fields.items())
+        if self.solver_setup is not None:
+            self.solver_setup(self)
 
     def _check_support(self, masks: list[PETSc.Vec]) -> None:
         constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
