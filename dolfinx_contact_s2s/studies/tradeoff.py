@@ -602,10 +602,21 @@ def plot(path: Path | str, records: Sequence[dict], scene: str) -> None:
             lw=1,
             label="Pareto front",
         )
+        # One label per step of the front: runs with the same error within 1% (the rules
+        # that integrate the same polynomials exactly) share the first one's label.
+        steps: list[list[dict]] = []
         for r in front:
+            e = max(r["error"], floor)
+            if steps and abs(e - max(steps[-1][0]["error"], floor)) <= 0.01 * e:
+                steps[-1].append(r)
+            else:
+                steps.append([r])
+        for step in steps:
+            r = step[0]
             ax.annotate(
                 f"{r['method']} P{r['degree']} n={r['level']}"
-                + ("" if r["solver"] in ("active-set", TIED) else f" {r['solver']}"),
+                + ("" if r["solver"] in ("active-set", TIED) else f" {r['solver']}")
+                + (f" (+{len(step) - 1} alike)" if len(step) > 1 else ""),
                 (r["seconds"]["total"], max(r["error"], floor)),
                 fontsize=6,
                 xytext=(3, 3),
