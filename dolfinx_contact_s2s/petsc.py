@@ -45,14 +45,23 @@ def _to_owners(
     comm: MPI.Comm, rows: npt.NDArray[np.int64], payload: list[npt.NDArray], row_starts: npt.NDArray
 ) -> tuple[npt.NDArray[np.int64], list[npt.NDArray]]:
     """Send entries to the processes that own their rows (``row_starts``: ownership offsets)."""
-    owner = np.searchsorted(row_starts, rows, side="right") - 1
-    order = np.argsort(owner, kind="stable")
-    send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
+    if comm.size == 1:
+        return rows, list(payload)
+    rank = comm.rank
+    if rows.size == 0 or (row_starts[rank] <= rows.min() and rows.max() < row_starts[rank + 1]):
+        # All rows are this process's own (the usual case): no search, no reordering.
+        order = None
+        send_counts = np.zeros(comm.size, dtype=np.int64)
+        send_counts[rank] = rows.size
+    else:
+        owner = np.searchsorted(row_starts, rows, side="right") - 1
+        order = None if np.all(owner[:-1] <= owner[1:]) else np.argsort(owner, kind="stable")
+        send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
     recv_counts = np.empty_like(send_counts)
     comm.Alltoall(send_counts, recv_counts)
     out = []
     for array in [rows, *payload]:
-        array = np.ascontiguousarray(array[order])
+        array = np.ascontiguousarray(array if order is None else array[order])
         received = np.empty(int(recv_counts.sum()), dtype=array.dtype)
         comm.Alltoallv([array, send_counts], [received, recv_counts])
         out.append(received)
@@ -80,8 +89,8 @@ def _coo_matrix(
         flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
         flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
         flat_v.append(values.reshape(-1))
-    i = np.concatenate(flat_i).astype(np.int64)
-    j = np.concatenate(flat_j).astype(np.int64)
+    i = np.concatenate(flat_i).astype(np.int64, copy=False)
+    j = np.concatenate(flat_j).astype(np.int64, copy=False)
     row_starts = np.array(comm.allgather(row_map.local_range[0]) + [row_map.size_global])
     i, (j, v) = _to_owners(comm, i, [j, np.concatenate(flat_v)], row_starts)
     start = row_map.local_range[0]
