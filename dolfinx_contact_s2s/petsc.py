@@ -173,9 +173,13 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    support = dolfinx.fem.assemble_vector(
-        dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
-    )
+    # The compiled form of the multipliers' integrals, once per pair (the values are
+    # assembled on every call: the geometry may have moved).
+    form = getattr(pair, "_support_form", None)
+    if form is None or form[0] is not Q:
+        form = (Q, dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh)))
+        pair._support_form = form
+    support = dolfinx.fem.assemble_vector(form[1])
     support.scatter_reverse(dolfinx.la.InsertMode.add)
     n = imap.size_local
     none = covered.array_r <= UNCOVERED_TOLERANCE * np.abs(support.array[:n])
