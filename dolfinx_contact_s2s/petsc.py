@@ -89,13 +89,17 @@ def _coo_matrix(
         flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
         flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
         flat_v.append(values.reshape(-1))
-    i = np.concatenate(flat_i).astype(np.int64, copy=False)
-    j = np.concatenate(flat_j).astype(np.int64, copy=False)
+
+    def joined(arrays: list[npt.NDArray]) -> npt.NDArray:
+        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
+    i = joined(flat_i).astype(np.int64, copy=False)
+    j = joined(flat_j).astype(np.int64, copy=False)
     row_starts = np.array(comm.allgather(row_map.local_range[0]) + [row_map.size_global])
-    i, (j, v) = _to_owners(comm, i, [j, np.concatenate(flat_v)], row_starts)
+    i, (j, v) = _to_owners(comm, i, [j, joined(flat_v)], row_starts)
     start = row_map.local_range[0]
     n_cols = col_map.size_global * col_bs
-    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start, j, v)
+    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start if start else i, j, v)
     A = PETSc.Mat().createAIJ(
         [
             [row_map.size_local, row_map.size_global],

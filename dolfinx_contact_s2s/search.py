@@ -132,8 +132,22 @@ def swept_boxes(
 
     A straight facet swept along :math:`\pm r \mathbf n` covers a parallelogram whose
     box is the facet's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved
-    facet's box grows by :math:`r` in every direction.
+    facet's box grows by :math:`r` in every direction. The boxes of the surface's own
+    facets are kept until :attr:`~ContactSurface.data` is replaced (a copy is returned).
     """
+    cached = getattr(surface, "_swept_boxes", None)
+    if cached is not None and cached[0] is data and cached[1] == radius:
+        return cached[2].copy()
+    boxes = _swept_boxes(surface, data, radius)
+    if data is surface.data:
+        surface._swept_boxes = (data, radius, boxes.copy())
+    return boxes
+
+
+def _swept_boxes(
+    surface: ContactSurface, data: SurfaceData, radius: float
+) -> npt.NDArray[np.floating]:
+    """The boxes of :func:`swept_boxes`, computed."""
     boxes = surface.bounding_boxes(data)
     c = data.coefficients
     pad = np.full((len(data), boxes.shape[2]), radius)

@@ -339,6 +339,18 @@ class ContactSurface:
         covers the deviation of a quadratic facet from its sample points; those of
         straight facets are exact.
         """
+        cached = getattr(self, "_gathered", None)
+        if cached is not None and data is cached[1]:
+            # The gathered facets change only with :attr:`data`: box them once.
+            boxes = getattr(self, "_gathered_boxes", None)
+            if boxes is None or boxes[0] is not data or boxes[1] != samples:
+                boxes = (
+                    data,
+                    samples,
+                    self.backend.bounding_boxes(data.coefficients, samples, 0.25),
+                )
+                self._gathered_boxes = boxes
+            return boxes[2].copy()
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
     def sizes(self, data: SurfaceData) -> npt.NDArray[np.floating]:
