@@ -48,13 +48,17 @@ def _to_owners(
     if comm.size == 1:
         return rows, list(payload)
     rank = comm.rank
-    if rows.size == 0 or (row_starts[rank] <= rows.min() and rows.max() < row_starts[rank + 1]):
+    outside = (rows < row_starts[rank]) | (rows >= row_starts[rank + 1])
+    if not outside.any():
         # All rows are this process's own (the usual case): no search, no reordering.
         order = None
         send_counts = np.zeros(comm.size, dtype=np.int64)
         send_counts[rank] = rows.size
     else:
-        owner = np.searchsorted(row_starts, rows, side="right") - 1
+        # Searched for the others' rows only; a stable sort of small integers (radix).
+        small = np.int16 if comm.size <= np.iinfo(np.int16).max else np.int64
+        owner = np.full(rows.size, rank, dtype=small)
+        owner[outside] = np.searchsorted(row_starts, rows[outside], side="right") - 1
         order = None if np.all(owner[:-1] <= owner[1:]) else np.argsort(owner, kind="stable")
         send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
     recv_counts = np.empty_like(send_counts)
