@@ -45,14 +45,27 @@ def _to_owners(
     comm: MPI.Comm, rows: npt.NDArray[np.int64], payload: list[npt.NDArray], row_starts: npt.NDArray
 ) -> tuple[npt.NDArray[np.int64], list[npt.NDArray]]:
     """Send entries to the processes that own their rows (``row_starts``: ownership offsets)."""
-    owner = np.searchsorted(row_starts, rows, side="right") - 1
-    order = np.argsort(owner, kind="stable")
-    send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
+    if comm.size == 1:
+        return rows, list(payload)
+    rank = comm.rank
+    outside = (rows < row_starts[rank]) | (rows >= row_starts[rank + 1])
+    if not outside.any():
+        # All rows are this process's own (the usual case): no search, no reordering.
+        order = None
+        send_counts = np.zeros(comm.size, dtype=np.int64)
+        send_counts[rank] = rows.size
+    else:
+        # Searched for the others' rows only; a stable sort of small integers (radix).
+        small = np.int16 if comm.size <= np.iinfo(np.int16).max else np.int64
+        owner = np.full(rows.size, rank, dtype=small)
+        owner[outside] = np.searchsorted(row_starts, rows[outside], side="right") - 1
+        order = None if np.all(owner[:-1] <= owner[1:]) else np.argsort(owner, kind="stable")
+        send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
     recv_counts = np.empty_like(send_counts)
     comm.Alltoall(send_counts, recv_counts)
     out = []
     for array in [rows, *payload]:
-        array = np.ascontiguousarray(array[order])
+        array = np.ascontiguousarray(array if order is None else array[order])
         received = np.empty(int(recv_counts.sum()), dtype=array.dtype)
         comm.Alltoallv([array, send_counts], [received, recv_counts])
         out.append(received)
@@ -80,13 +93,17 @@ def _coo_matrix(
         flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
         flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
         flat_v.append(values.reshape(-1))
-    i = np.concatenate(flat_i).astype(np.int64)
-    j = np.concatenate(flat_j).astype(np.int64)
+
+    def joined(arrays: list[npt.NDArray]) -> npt.NDArray:
+        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
+    i = joined(flat_i).astype(np.int64, copy=False)
+    j = joined(flat_j).astype(np.int64, copy=False)
     row_starts = np.array(comm.allgather(row_map.local_range[0]) + [row_map.size_global])
-    i, (j, v) = _to_owners(comm, i, [j, np.concatenate(flat_v)], row_starts)
+    i, (j, v) = _to_owners(comm, i, [j, joined(flat_v)], row_starts)
     start = row_map.local_range[0]
     n_cols = col_map.size_global * col_bs
-    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start, j, v)
+    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start if start else i, j, v)
     A = PETSc.Mat().createAIJ(
         [
             [row_map.size_local, row_map.size_global],
@@ -164,9 +181,13 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    support = dolfinx.fem.assemble_vector(
-        dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
-    )
+    # The compiled form of the multipliers' integrals, once per pair (the values are
+    # assembled on every call: the geometry may have moved).
+    form = getattr(pair, "_support_form", None)
+    if form is None or form[0] is not Q:
+        form = (Q, dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh)))
+        pair._support_form = form
+    support = dolfinx.fem.assemble_vector(form[1])
     support.scatter_reverse(dolfinx.la.InsertMode.add)
     n = imap.size_local
     none = covered.array_r <= UNCOVERED_TOLERANCE * np.abs(support.array[:n])

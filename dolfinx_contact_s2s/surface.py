@@ -222,9 +222,19 @@ class ContactSurface:
         return self.V.mesh.comm
 
     def gather(self) -> SurfaceData:
-        """All facets of the surface, from every process, on every process."""
+        """All facets of the surface, from every process, on every process (collective).
+
+        The gathered arrays are kept (read-only) until :attr:`data` is replaced on some
+        process: every assembly of a pair reuses them without communication.
+        """
+        cached = getattr(self, "_gathered", None)
+        fresh = cached is not None and cached[0] is self.data
+        if self.comm.size > 1:
+            fresh = self.comm.allreduce(fresh, op=MPI.LAND)
+        if fresh:
+            return cached[1]
         parts = self.comm.allgather(self.data)
-        return SurfaceData(
+        gathered = SurfaceData(
             np.concatenate([p.coords for p in parts]),
             np.concatenate([p.local_facet for p in parts]),
             np.concatenate([p.dofs for p in parts]),
@@ -232,6 +242,10 @@ class ContactSurface:
             np.concatenate([p.coefficients for p in parts]),
             np.concatenate([p.orientation for p in parts]),
         )
+        for array in vars(gathered).values():
+            array.setflags(write=False)
+        self._gathered = (self.data, gathered)
+        return gathered
 
     # Batched evaluation. ``rows`` selects facets of ``data``, one per point.
 
@@ -325,6 +339,18 @@ class ContactSurface:
         covers the deviation of a quadratic facet from its sample points; those of
         straight facets are exact.
         """
+        cached = getattr(self, "_gathered", None)
+        if cached is not None and data is cached[1]:
+            # The gathered facets change only with :attr:`data`: box them once.
+            boxes = getattr(self, "_gathered_boxes", None)
+            if boxes is None or boxes[0] is not data or boxes[1] != samples:
+                boxes = (
+                    data,
+                    samples,
+                    self.backend.bounding_boxes(data.coefficients, samples, 0.25),
+                )
+                self._gathered_boxes = boxes
+            return boxes[2].copy()
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
     def sizes(self, data: SurfaceData) -> npt.NDArray[np.floating]:

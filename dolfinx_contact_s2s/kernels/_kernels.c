@@ -10,6 +10,7 @@
  */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 /* x, x' and x'' of facet c (M coefficients, gdim 2) at xi, by Horner's rule. */
 static void s2s_point(const double *c, int M, double xi, double *x, double *dx, double *ddx)
@@ -323,14 +324,24 @@ void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, 
 }
 
 /* Sum duplicate (row, col) entries into CSR with sorted columns; returns the number of
- * nonzeros. rows are local (0 <= row < nrows); work holds n + nrows + 1 int64. */
+ * nonzeros, or -1 if a row is out of range (0 <= row < nrows). Duplicates are summed in
+ * the order of the entries. */
 int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
                        const double *values, int64_t *indptr, int64_t *indices, double *data)
 {
   for (int64_t r = 0; r <= nrows; ++r)
     indptr[r] = 0;
+  int64_t cmin = 0, cmax = -1;
   for (int64_t e = 0; e < n; ++e)
+  {
+    if (rows[e] < 0 || rows[e] >= nrows)
+      return -1;
     indptr[rows[e] + 1]++;
+    if (e == 0 || cols[e] < cmin)
+      cmin = cols[e];
+    if (cols[e] > cmax)
+      cmax = cols[e];
+  }
   for (int64_t r = 0; r < nrows; ++r)
     indptr[r + 1] += indptr[r];
   /* Scatter into row buckets (indptr[r] advances to the bucket's end, then is shifted back). */
@@ -343,11 +354,55 @@ int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int6
   for (int64_t r = nrows; r > 0; --r)
     indptr[r] = indptr[r - 1];
   indptr[0] = 0;
-  /* Sort each row by column (insertion sort: rows are short), sum duplicates, compact. */
+  /* Where a column's entry of the current row went (a dense map over the columns' range,
+   * when that range is not much larger than the entries): duplicates are summed in one
+   * pass, and only the distinct columns of a row are sorted. */
+  int64_t span = cmax - cmin + 1;
+  int64_t *where = NULL;
+  if (n > 0 && span <= 4 * n + 1024)
+    where = (int64_t *)malloc((size_t)span * sizeof(int64_t));
+  if (where)
+    for (int64_t c = 0; c < span; ++c)
+      where[c] = -1;
   int64_t out = 0;
   for (int64_t r = 0; r < nrows; ++r)
   {
     int64_t begin = indptr[r], end = indptr[r + 1];
+    indptr[r] = out;
+    if (where)
+    {
+      /* Compact in place (out <= a), summing into the first entry of each column. */
+      for (int64_t a = begin; a < end; ++a)
+      {
+        int64_t c = indices[a] - cmin;
+        int64_t k = where[c];
+        if (k >= indptr[r])
+          data[k] += data[a];
+        else
+        {
+          where[c] = out;
+          indices[out] = indices[a];
+          data[out] = data[a];
+          ++out;
+        }
+      }
+      /* Sort the distinct columns (insertion sort: rows are short). */
+      for (int64_t a = indptr[r] + 1; a < out; ++a)
+      {
+        int64_t c = indices[a];
+        double v = data[a];
+        int64_t b = a - 1;
+        while (b >= indptr[r] && indices[b] > c)
+        {
+          indices[b + 1] = indices[b];
+          data[b + 1] = data[b];
+          --b;
+        }
+        indices[b + 1] = c;
+        data[b + 1] = v;
+      }
+      continue;
+    }
     for (int64_t a = begin + 1; a < end; ++a)
     {
       int64_t c = indices[a];
@@ -362,7 +417,6 @@ int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int6
       indices[b + 1] = c;
       data[b + 1] = v;
     }
-    indptr[r] = out;
     for (int64_t a = begin; a < end; ++a)
     {
       if (a > begin && indices[a] == indices[out - 1])
@@ -376,5 +430,6 @@ int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int6
     }
   }
   indptr[nrows] = out;
+  free(where);
   return out;
 }

@@ -410,8 +410,8 @@ def coo_to_csr(
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     values = _f64(values)
     n = rows.size
-    if n and (rows.min() < 0 or rows.max() >= num_rows):
-        raise ValueError("row index out of range")
+    if cols.size != n or values.size != n:
+        raise ValueError("rows, cols and values must have the same length")
     indptr = np.empty(num_rows + 1, dtype=np.int64)
     indices = np.empty(n, dtype=np.int64)
     data = np.empty(n)
@@ -420,4 +420,6 @@ def coo_to_csr(
         _ptr(ffi, values), _ptr(ffi, indptr, "int64_t *"), _ptr(ffi, indices, "int64_t *"),
         _ptr(ffi, data),
     )  # fmt: skip
+    if nnz < 0:
+        raise ValueError("row index out of range")
     return indptr, indices[:nnz].copy(), data[:nnz].copy()
