@@ -254,7 +254,17 @@ class ContactPair:
         Returns:
             One :class:`CouplingBlocks` per target, in the order of :attr:`targets`, with
             global row and column indices (possibly empty on some processes).
+
+        Raises:
+            ValueError: On every rank, if a mesh of the pair moved after its surfaces were
+                created.
         """
+        for surface in (self.contactor, *self.targets):
+            if surface.moved():
+                raise ValueError(
+                    f"the mesh of contact surface {surface.tag} moved after the surface was "
+                    "created: create the contact surfaces and pairs again after moving a mesh"
+                )
         gathered = [t.gather() for t in self.targets]
         groups = self.discretization.points(self, gathered)
         return [

@@ -215,6 +215,19 @@ class ContactSurface:
         self.data = SurfaceData(
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
+        # The geometry dofs of the facets' cells, to notice a mesh moved after this point.
+        self._x_dofs = x_dofs
+
+    def moved(self) -> bool:
+        """Whether the mesh's nodes on this surface changed since its creation (collective).
+
+        The facet geometry, the search radius and the multiplier space are built from the
+        nodes at creation; a mesh moved afterwards (``mesh.geometry.x += ...``) would
+        otherwise be coupled with its old contact geometry.
+        """
+        coords = self.data.coords
+        now = self.V.mesh.geometry.x[self._x_dofs][:, :, : coords.shape[2]]
+        return self.comm.allreduce(not np.array_equal(now, coords), op=MPI.LOR)
 
     @property
     def comm(self) -> MPI.Comm:

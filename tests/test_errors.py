@@ -127,3 +127,26 @@ def test_interior_facets_rejected_on_every_partition():
 def scene_like(mesh):
     """A stand-in body holding only a mesh (for :func:`_space`)."""
     return types.SimpleNamespace(mesh=mesh)
+
+
+def test_mesh_moved_after_the_surfaces_were_created():
+    """A user shifts a body after creating its surface: a clear error, not the old geometry."""
+    scene = patch_test(MPI.COMM_WORLD, (4, 3))
+    V_upper, V_lower = _space(scene.upper), _space(scene.lower)
+    upper = contact_surface(V_upper, scene.upper.facet_tags, BOTTOM)
+    lower = contact_surface(V_lower, scene.lower.facet_tags, TOP)
+    assemble_coupling(contact_pair(upper, lower)).destroy()
+    assert not upper.moved() and not lower.moved()
+
+    scene.upper.mesh.geometry.x[:, 0] += 0.01  # every rank moves its nodes
+    assert upper.moved() and not lower.moved()
+    with pytest.raises(ValueError, match="moved after the surface was created"):
+        assemble_coupling(contact_pair(upper, lower))
+
+    # Surfaces created after the move see the new geometry: the contactor's facets start
+    # 0.01 further right, as the node coordinates do.
+    moved = contact_surface(V_upper, scene.upper.facet_tags, BOTTOM)
+    op = assemble_coupling(contact_pair(moved, lower))
+    shift = moved.data.coords[:, :, 0] - upper.data.coords[:, :, 0]
+    assert np.allclose(shift, 0.01, rtol=0, atol=1e-15)
+    op.destroy()
