@@ -202,7 +202,14 @@ class ContactSurface:
         self._facet_basis = facet_monomials(self.cmap, self._ref_a, self._ref_b)
         self._basis_table = facet_monomials(scalar, self._ref_a, self._ref_b)
 
-        coefficients = self.backend.facet_coefficients(self._facet_basis, local_facet, coords)
+        # Relative to each cell's first node, so that the chord and curvature terms carry
+        # no round-off of the scene's position (a scene far from the origin); the basis is
+        # a partition of unity, so the origin adds to the constant term only.
+        origin = coords[:, :1, :]
+        coefficients = self.backend.facet_coefficients(
+            self._facet_basis, local_facet, np.ascontiguousarray(coords - origin)
+        )
+        coefficients[:, 0, :] += origin[:, 0, :]
         # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
         rows = np.arange(cells.size, dtype=np.int32)
         half = np.full(cells.size, 0.5)
