@@ -296,16 +296,7 @@ class InfSupTest:
         if self.pressure_modes > 0:
             return InfSup(0.0, self.pressure_modes, self.constraints, self.displacements, self.h)
         if self.eigenvalues is not None:
-            lam = tuple(float(x) for x in self.eigenvalues[:eigenvalues])
-            return InfSup(
-                float(np.sqrt(lam[0])),
-                0,
-                self.constraints,
-                self.displacements,
-                self.h,
-                eigenvalues=lam,
-                solves=0,
-            )
+            return self._result(tuple(float(x) for x in self.eigenvalues[:eigenvalues]), 0)
         from slepc4py import SLEPc
 
         context = _InverseSchur(self)
@@ -341,6 +332,10 @@ class InfSupTest:
         lam = tuple(self.shift + 1.0 / m for m in mu[:eigenvalues])
         eps.destroy()
         op.destroy()
+        return self._result(lam, context.solves)
+
+    def _result(self, lam: tuple[float, ...], solves: int) -> InfSup:
+        r"""From the smallest eigenvalues of Eq. (30): :math:`\beta^* = \sqrt{\lambda_1}`."""
         return InfSup(
             float(np.sqrt(lam[0])),
             0,
@@ -348,7 +343,7 @@ class InfSupTest:
             self.displacements,
             self.h,
             eigenvalues=lam,
-            solves=context.solves,
+            solves=solves,
         )
 
     def inverse_schur(self, block: int = 64) -> npt.NDArray[np.floating]:

@@ -298,9 +298,10 @@ class LinearContactProblem:
         if self.A is None:
             raise RuntimeError("assemble the problem first")
         d = self.A.getDiagonal()
-        sub = d.getSubVector(list(self.fields.values())[i])
+        is_ = list(self.fields.values())[i]
+        sub = d.getSubVector(is_)
         out = sub.copy()
-        d.restoreSubVector(list(self.fields.values())[i], sub)
+        d.restoreSubVector(is_, sub)
         d.destroy()
         return out
 
