@@ -120,7 +120,8 @@ class LinearContactProblem:
       duplicates of a two-pass method (section 4.3).
     - At assembly, a body that some rigid motion moves without resistance (Eq. 33:
       the structure must be properly supported) and redundant constraints (Eq. 35:
-      :math:`\mathbf B` must have full row rank) raise :class:`ValueError`.
+      :math:`\mathbf B` of all pairs stacked must have full row rank; the two passes of
+      a two-pass method on quadratic elements have not) raise :class:`ValueError`.
     - After every solve, a failed KSP or a relative residual
       :math:`\|\mathbf b - \mathbf A \mathbf x\| / \|\mathbf b\|` above
       ``residual_tolerance`` raises :class:`RuntimeError`. A MUMPS workspace error is
@@ -598,31 +599,78 @@ class LinearContactProblem:
             )
 
     def _check_redundancy(self, masks: list[PETSc.Vec]) -> None:
-        for j, (pair, op) in enumerate(zip(self.pairs, self.operators, strict=True)):
-            blocks = [B for _, B in op.blocks]
-            block_masks = [masks[self.space_index(V)] for V, _ in op.blocks]
-            report = checks.redundant_constraints(blocks, block_masks, op.inactive)
-            if report.redundant == 0:
-                continue
-            named = ""
-            if report.active <= 2000:
-                rows = checks.redundant_multipliers(blocks, block_masks, op.inactive)
-                x = _dof_coordinates(pair.Q)
-                named = (
-                    " Dependent multipliers, at: "
-                    + "; ".join(
-                        ", ".join(f"({x[k, 0]:.4g}, {x[k, 1]:.4g})" for k in group[:4])
-                        for group in rows[:5]
-                    )
-                    + "."
-                )
-            raise ValueError(
-                f"pair {j} ({pair.method}, contactor tag {pair.contactor.tag}) has "
-                f"{report.redundant} redundant constraint(s) of {report.active} ({report.zero} "
-                "act only on Dirichlet dofs): B has no full row rank (Eq. 35), so the "
-                f"multipliers are not determined.{named} Choose a stable discretization "
-                "(segment-to-segment with a continuous multiplier, section 5)."
+        constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
+        inactive = [op.inactive for op in self.operators]
+        if not constraints:
+            return
+
+        def redundancy(which: list[int]) -> checks.Redundancy:
+            return checks.joint_redundant_constraints(
+                [constraints[j] for j in which], masks, [inactive[j] for j in which]
             )
+
+        report = redundancy(list(range(len(constraints))))
+        if report.redundant == 0:
+            return
+        # Name the culprit: a pair alone, else two pairs that share a space.
+        groups = [[j] for j in range(len(constraints))] if len(constraints) > 1 else []
+        groups += [
+            [i, j]
+            for i in range(len(constraints))
+            for j in range(i + 1, len(constraints))
+            if {s for s, _ in constraints[i]} & {s for s, _ in constraints[j]}
+        ]
+        for which in groups:
+            found = redundancy(which)
+            if found.redundant > 0:
+                raise self._redundancy_error(which, found, constraints, masks, inactive)
+        raise self._redundancy_error(
+            list(range(len(constraints))), report, constraints, masks, inactive
+        )
+
+    def _redundancy_error(
+        self,
+        which: list[int],
+        report: checks.Redundancy,
+        constraints: list[list[tuple[int, PETSc.Mat]]],
+        masks: list[PETSc.Vec],
+        inactive: list[npt.NDArray[np.int64]],
+    ) -> ValueError:
+        """The error for redundant constraints of the pairs ``which`` (Eq. 35)."""
+        named = ""
+        if report.active <= 2000:
+            rows = checks.joint_redundant_multipliers(
+                [constraints[j] for j in which], masks, [inactive[j] for j in which]
+            )
+            x = [_dof_coordinates(self.pairs[j].Q) for j in which]
+            label = (lambda k: f"pair {which[k]} ") if len(which) > 1 else (lambda k: "")
+            named = (
+                " Dependent multipliers, at: "
+                + "; ".join(
+                    ", ".join(
+                        f"{label(k)}({x[k][r, 0]:.4g}, {x[k][r, 1]:.4g})" for k, r in group[:4]
+                    )
+                    for group in rows[:5]
+                )
+                + "."
+            )
+        pairs = " and ".join(
+            f"pair {j} ({self.pairs[j].method}, contactor tag {self.pairs[j].contactor.tag})"
+            for j in which
+        )
+        together = (
+            " together, though each alone has full row rank (two passes constrain the same "
+            "motion twice)"
+            if len(which) > 1
+            else ""
+        )
+        return ValueError(
+            f"{pairs} {'have' if len(which) > 1 else 'has'} {report.redundant} redundant "
+            f"constraint(s) of {report.active} ({report.zero} act only on Dirichlet "
+            f"dofs){together}: B has no full row rank (Eq. 35), so the multipliers are not "
+            f"determined.{named} Choose a stable discretization (segment-to-segment with a "
+            "continuous multiplier, section 5)."
+        )
 
     # --- solve ----------------------------------------------------------------------
 

@@ -24,6 +24,8 @@ from dolfinx_contact_s2s.checks import (
     REDUNDANT_TOL,
     Redundancy,
     connected_components,
+    joint_redundant_constraints,
+    joint_redundant_multipliers,
     near_nullspace,
     redundant_constraints,
     redundant_multipliers,
@@ -497,6 +499,37 @@ def test_redundant_rows_of_random_matrix(inactive):
         if not s & set(inactive):
             assert s in sets
     for obj in blocks + masks:
+        obj.destroy()
+
+
+@pytest.mark.parametrize("second", [(0, 1), (1,)])
+def test_redundant_rows_of_stacked_pairs(second):
+    """Two pairs, each of full row rank or nearly, dependent together (the stacked rows'
+    dense SVD is the reference); the second pair on both spaces or on space 1 only."""
+    B, free = random_constraints()
+    top, bottom = B[:10].copy(), B[10:].copy()
+    if second == (1,):
+        bottom[:, :17] = 0.0
+    stacked = np.vstack([top, bottom])
+    zero, dependent = svd_redundancy(stacked, free, np.ones(15, dtype=bool))
+    # Rows 10 and 11 depend on rows 0-2 on both spaces, not on space 1 alone.
+    assert dependent == (3 if second == (0, 1) else 0)
+    top_blocks, masks = split_blocks(top, free, 17)
+    bottom_blocks, bottom_masks = split_blocks(bottom, free, 17)
+    constraints = [list(enumerate(top_blocks)), [(s, bottom_blocks[s]) for s in second]]
+    count = joint_redundant_constraints(constraints, masks)
+    assert count == Redundancy(15, zero, dependent)
+    for part, blocks in [(top, top_blocks), (bottom, bottom_blocks)]:
+        alone = svd_redundancy(part, free, np.ones(part.shape[0], dtype=bool))
+        assert redundant_constraints(blocks, masks) == Redundancy(part.shape[0], *alone)
+    # Every named group is a dependency of the stacked, eliminated rows.
+    named = joint_redundant_multipliers(constraints, masks)
+    assert len(named) == count.redundant
+    eliminated = stacked * free[None, :]
+    for group in named:
+        rows = eliminated[group[:, 0] * 10 + group[:, 1]]
+        assert np.linalg.matrix_rank(rows, tol=1e-6 * np.abs(rows).max(initial=1.0)) < len(group)
+    for obj in top_blocks + bottom_blocks + masks + bottom_masks:
         obj.destroy()
 
 

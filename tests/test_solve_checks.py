@@ -92,6 +92,29 @@ def test_redundant_constraints_raise():
             problem.solve()
 
 
+@pytest.mark.parametrize("degree", [1, 2])
+def test_two_passes_redundant_together_raise(degree):
+    """Two-pass node-to-segment: each pass alone has full row rank; on quadratic elements
+    the passes together do not (Eq. 35), and the multipliers of a solve would be
+    arbitrary (LU and LDL^T differed by 10x their size). The count is the dense SVD's
+    (the stacked B of :func:`solvability`); on linear elements the solve goes through."""
+    with readme_problem(method="two-pass node-to-segment", degree=degree) as problem:
+        problem.assemble(check=False)
+        reference = solvability(problem)
+        assert (reference.redundant > 0) == (degree == 2)
+        if degree == 1:
+            problem.solve()
+            assert problem.residual() <= problem.residual_tolerance
+            return
+        with pytest.raises(ValueError, match="redundant constraint") as info:
+            problem.solve()
+    message = str(info.value)
+    assert f"have {reference.redundant} redundant constraint(s) of {reference.constraints}" in (
+        message
+    )
+    assert "pair 0" in message and "pair 1" in message and "together" in message
+
+
 def test_petsc_options_reach_the_factorization():
     """MUMPS options given as petsc_options are read by the factor (ICNTL(14) read back)."""
     with readme_problem(prefix="icntl_", petsc_options={"mat_mumps_icntl_14": 200}) as problem:

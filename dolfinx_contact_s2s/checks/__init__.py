@@ -50,7 +50,10 @@ number of degrees of freedom:
   counted separately. The round-off of the unit-row Gram matrix is
   :math:`\epsilon` times the number of overlapping rows, four orders of magnitude below
   :math:`\tau`. :func:`redundant_multipliers` names the dependent rows of small
-  problems.
+  problems. :func:`joint_redundant_constraints` and
+  :func:`joint_redundant_multipliers` do the same for the rows of several pairs
+  stacked: each pair may have full row rank while two pairs together constrain a
+  motion twice (the passes of a two-pass method).
 
 Every function is collective on the communicator of its arguments and returns the same
 result on every process. The package needs petsc4py and is imported explicitly.
@@ -60,6 +63,8 @@ from dolfinx_contact_s2s.checks.bodies import connected_components, near_nullspa
 from dolfinx_contact_s2s.checks.rank import (
     REDUNDANT_TOL,
     Redundancy,
+    joint_redundant_constraints,
+    joint_redundant_multipliers,
     redundant_constraints,
     redundant_multipliers,
 )
@@ -77,6 +82,8 @@ __all__ = [
     "RigidMotion",
     "UnsupportedMotion",
     "connected_components",
+    "joint_redundant_constraints",
+    "joint_redundant_multipliers",
     "near_nullspace",
     "redundant_constraints",
     "redundant_multipliers",
