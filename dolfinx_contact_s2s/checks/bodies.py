@@ -130,18 +130,23 @@ class Bodies:
                 values[:, b, 3 + a], values[:, c, 3 + a] = -d[:, c], d[:, b]
         return values.reshape(n * bs, m)
 
-    def matrix(self, offset: int, columns: int) -> scipy.sparse.csr_matrix:
-        """Owned rows of the rigid modes, columns ``offset + component * modes + mode``."""
-        values = self.values()
-        m = self.modes
-        rows = np.repeat(np.arange(values.shape[0]), m)
-        dof_labels = np.repeat(self.labels, self.bs)
-        cols = offset + (dof_labels[:, None] * m + np.arange(m)[None, :]).ravel()
-        R = scipy.sparse.csr_matrix(
-            (values.ravel(), (rows, cols)), shape=(values.shape[0], columns)
-        )
-        R.eliminate_zeros()
-        return R
+
+def _reduce_by(
+    labels: npt.NDArray[np.int32],
+    values: npt.NDArray[np.floating],
+    count: int,
+    ufunc: np.ufunc,
+    fill: float,
+) -> npt.NDArray[np.floating]:
+    """``ufunc`` over the rows of ``values`` of each label (``fill`` where none)."""
+    out = np.full((count, values.shape[1]), fill)
+    if labels.size == 0:
+        return out
+    order = np.argsort(labels, kind="stable")
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+    out[sorted_labels[starts]] = ufunc.reduceat(values[order], starts, axis=0)
+    return out
 
 
 def body_set(V: dolfinx.fem.FunctionSpace, labels: npt.NDArray[np.int32] | None) -> Bodies:
@@ -167,18 +172,17 @@ def body_set(V: dolfinx.fem.FunctionSpace, labels: npt.NDArray[np.int32] | None)
     x = V.tabulate_dof_coordinates()[:n, :bs].astype(np.float64)
 
     counts = comm.allreduce(np.bincount(owned, minlength=count).astype(np.float64))
-    sums = np.zeros((count, bs))
-    np.add.at(sums, owned, x)
+    sums = np.column_stack(
+        [np.bincount(owned, weights=x[:, k], minlength=count) for k in range(bs)]
+    )
     centroid = comm.allreduce(sums) / np.maximum(counts, 1.0)[:, None]
     d2 = np.sum((x - centroid[owned]) ** 2, axis=1)
     size = np.sqrt(
         comm.allreduce(np.bincount(owned, weights=d2, minlength=count)) / np.maximum(counts, 1.0)
     )
     size[size <= 0.0] = 1.0
-    lower = np.full((count, bs), np.inf)
-    upper = np.full((count, bs), -np.inf)
-    np.minimum.at(lower, owned, x)
-    np.maximum.at(upper, owned, x)
+    lower = _reduce_by(owned, x, count, np.minimum, np.inf)
+    upper = _reduce_by(owned, x, count, np.maximum, -np.inf)
     comm.Allreduce(MPI.IN_PLACE, lower, op=MPI.MIN)
     comm.Allreduce(MPI.IN_PLACE, upper, op=MPI.MAX)
     return Bodies(comm, bs, count, owned, x, centroid, size, counts, lower, upper)

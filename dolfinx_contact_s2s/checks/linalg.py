@@ -13,28 +13,13 @@ import scipy.linalg
 import scipy.sparse
 import scipy.sparse.csgraph
 
-__all__ = ["aij_matrix", "csr_rows", "echelon", "owned_rows", "petsc_vector", "unit_rows"]
+__all__ = ["csr_rows", "echelon", "owned_rows", "petsc_vector", "unit_rows"]
 
 
 def csr_rows(A: PETSc.Mat, columns: int) -> scipy.sparse.csr_matrix:
     """Owned rows of a PETSc AIJ matrix with global column indices."""
     indptr, indices, data = A.getValuesCSR()
     return scipy.sparse.csr_matrix((data, indices, indptr), shape=(indptr.size - 1, columns))
-
-
-def aij_matrix(
-    comm: MPI.Comm, A: scipy.sparse.csr_matrix, row_sizes: tuple[int, int], col_sizes: tuple
-) -> PETSc.Mat:
-    """A distributed PETSc AIJ matrix from the owned rows of a SciPy CSR matrix."""
-    A = A.tocsr()
-    A.sort_indices()
-    M = PETSc.Mat().createAIJ(
-        size=(row_sizes, col_sizes),
-        csr=(A.indptr.astype(PETSc.IntType), A.indices.astype(PETSc.IntType), A.data),
-        comm=comm,
-    )
-    M.assemble()
-    return M
 
 
 def owned_rows(A: PETSc.Mat, inactive: npt.ArrayLike | None) -> npt.NDArray[np.bool_]:

@@ -20,7 +20,6 @@ import scipy.sparse.csgraph
 
 from dolfinx_contact_s2s.checks.bodies import Bodies, body_set
 from dolfinx_contact_s2s.checks.linalg import (
-    aij_matrix,
     csr_rows,
     echelon,
     owned_rows,
@@ -221,30 +220,50 @@ def unsupported_motions(
     col_sizes = (N if comm.rank == 0 else 0, N)
     G = np.zeros((2, N, N))  # G_D + G_B, G_K
 
-    R_local = [b.matrix(int(offsets[s]), N) for s, b in enumerate(bodies)]
     R_petsc, q_petsc = [], []
     colnorm2 = np.zeros(N)
     kmax = []
-    for s, R in enumerate(R_local):
-        n = R.shape[0]
+    for s, b in enumerate(bodies):
+        # Each owned dof carries the m modes of its own component only: the rigid modes
+        # are the dense (n, m) values with column offset + component * m + mode.
+        values, m = b.values(), b.modes
+        dof_labels = np.repeat(b.labels, b.bs)
+        n = values.shape[0]
+        offset = int(offsets[s])
+        cols = offset + dof_labels[:, None] * m + np.arange(m)[None, :]
         fixed = dirichlet_masks[s].array_r[:n] < 0.5
-        free = ~fixed
-        rownorm2 = np.asarray(R.multiply(R).sum(axis=1)).ravel()
-        colnorm2 += np.asarray(R.multiply(R).sum(axis=0)).ravel()
-        RD = unit_rows(R[fixed], rownorm2[fixed])
-        G[0] += (RD.T @ RD).toarray()
-        # Energy of the motions over the free dofs.
-        Rf = scipy.sparse.diags(free.astype(np.float64)) @ R
-        Rf_petsc = aij_matrix(comm, Rf, (n, PETSc.DETERMINE), col_sizes)
+        rownorm2 = np.einsum("ik,ik->i", values, values)
+        colnorm2 += np.bincount(cols.ravel(), weights=(values * values).ravel(), minlength=N)
+        U = values[fixed] / np.sqrt(rownorm2[fixed])[:, None]
+        _add_blocks(G[0], offset, dof_labels[fixed], b.count, U, U)
+        # Energy of the motions over the free dofs: K is block diagonal over the
+        # components (no cell joins two), so m products K (sum of mode k over all
+        # components) give every component's block.
+        free_values = np.where(fixed[:, None], 0.0, values)
         K = stiffness[s]
-        KR = K.matMult(Rf_petsc)
-        G[1] += (Rf.T @ csr_rows(KR, N)).toarray()
-        KR.destroy()
-        Rf_petsc.destroy()
+        x, y = K.createVecRight(), K.createVecLeft()
+        KR = np.empty_like(free_values)
+        for k in range(m):
+            x.array[:] = free_values[:, k]
+            K.mult(x, y)
+            KR[:, k] = y.array_r
+        x.destroy()
+        y.destroy()
+        _add_blocks(G[1], offset, dof_labels, b.count, free_values, KR)
         diag = K.getDiagonal()
-        kmax.append(comm.allreduce(float(diag.array_r[:n][free].max(initial=0.0)), op=MPI.MAX))
+        kmax.append(comm.allreduce(float(diag.array_r[:n][~fixed].max(initial=0.0)), op=MPI.MAX))
         diag.destroy()
-        R_petsc.append(aij_matrix(comm, R, (n, PETSc.DETERMINE), col_sizes))
+        R = PETSc.Mat().createAIJ(
+            size=((n, PETSc.DETERMINE), col_sizes),
+            csr=(
+                np.arange(0, n * m + 1, m, dtype=PETSc.IntType),
+                cols.ravel().astype(PETSc.IntType),
+                values.ravel(),
+            ),
+            comm=comm,
+        )
+        R.assemble()
+        R_petsc.append(R)
         q_petsc.append(petsc_vector(comm, rownorm2, 1))
 
     for p, pair in enumerate(constraints):
@@ -287,6 +306,27 @@ def unsupported_motions(
     G = G[0] + S[:, None] * G[1] * S[None, :]
     G = comm.bcast(0.5 * (G + G.T), root=0)  # identical input: identical results
     return _null_motions(G, bodies, tol)
+
+
+def _add_blocks(
+    G: npt.NDArray[np.floating],
+    offset: int,
+    labels: npt.NDArray[np.int32],
+    count: int,
+    left: npt.NDArray[np.floating],
+    right: npt.NDArray[np.floating],
+) -> None:
+    r"""Add :math:`\sum_{i \in c} l_i r_i^T` to the block of each component ``c``.
+
+    The block of component ``c`` holds rows and columns ``offset + c * m + (0..m-1)``.
+    """
+    m = left.shape[1]
+    blocks = np.empty((count, m, m))
+    for k in range(m):
+        for j in range(m):
+            blocks[:, k, j] = np.bincount(labels, weights=left[:, k] * right[:, j], minlength=count)
+    index = offset + np.arange(count)[:, None] * m + np.arange(m)[None, :]
+    G[index[:, :, None], index[:, None, :]] += blocks
 
 
 def _null_motions(
