@@ -205,7 +205,9 @@ def unsupported_motions(
         inactive: Per pair, global indices of the multiplier rows to ignore (each
             process may pass any subset; their union is used), or ``None``.
         labels: Per space, the component of each local cell (default
-            :func:`connected_components` of the space's mesh).
+            :func:`connected_components` of the space's mesh). A component must be a
+            union of connected components: no cell joins two, so that :math:`\mathbf K`
+            has no entry between them.
         tol: Relative eigenvalue threshold.
 
     Returns:
