@@ -240,6 +240,7 @@ class LinearContactProblem:
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
         self.fields: dict[str, PETSc.IS] = {}
+        self._support: checks.SupportGram | None = None
         # PETSc objects of one assembly (kept across the systems built from it), and of
         # the current saddle-point system.
         self._owned: list[typing.Any] = []
@@ -619,14 +620,11 @@ class LinearContactProblem:
 
     def _check_support(self, masks: list[PETSc.Vec]) -> None:
         constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
-        motions = checks.unsupported_motions(
-            self.spaces,
-            self._K,
-            masks,
-            constraints,
-            [op.inactive for op in self.operators],
-            labels=self._labels,
+        # Kept: a unilateral iteration checks its active sets against it (without K).
+        self._support = checks.support_gram(
+            self.spaces, self._K, masks, constraints, labels=self._labels
         )
+        motions = self._support.motions([op.inactive for op in self.operators])
         if motions:
             lines = "\n".join(f"  - {m.describe()}" for m in motions)
             raise ValueError(
