@@ -36,7 +36,11 @@ UPPER = {"bottom": 20, "right": 22, "top": 23, "left": 24}
 
 
 def readme_mesh(lower=7, upper=5, quads=False):
-    """The README's Gmsh model: two blocks, one mesh, non-matching contact lines."""
+    """The README's Gmsh model: two blocks, one mesh, non-matching contact lines.
+
+    ``quads``: ``True`` recombines both blocks into quadrilaterals, ``"upper"`` only the
+    upper one (a model of two cell types).
+    """
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)
     if comm.rank == 0:
@@ -50,13 +54,15 @@ def readme_mesh(lower=7, upper=5, quads=False):
             for line, tag, count in zip(lines, tags.values(), (n, 3, n, 3), strict=True):
                 gmsh.model.mesh.setTransfiniteCurve(line, count + 1)
                 gmsh.model.addPhysicalGroup(1, [line], tag)
-            if quads:
+            if quads is True or (quads == "upper" and tags is UPPER):
                 gmsh.model.mesh.setTransfiniteSurface(surface)
                 gmsh.model.mesh.setRecombine(2, surface)
         gmsh.model.addPhysicalGroup(2, [b[0] for b in blocks], 1)
         gmsh.model.mesh.generate(2)
-    mesh, _, facets = model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    gmsh.finalize()
+    try:
+        mesh, _, facets = model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    finally:
+        gmsh.finalize()
     return mesh, facets
 
 
@@ -329,6 +335,17 @@ def test_surface_mesh_in_space():
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (3,)))
     raises_everywhere(
         ValueError, r"in the plane, not triangle \(tdim 2, gdim 3\)", contact_surface, V, tags, 1
+    )
+
+
+def test_mixed_cell_types():
+    """Triangles in one block, quadrilaterals in the other: DOLFINx 0.9's Gmsh reader
+    aborts MPI on such a model; the package's reader raises on every rank first."""
+    raises_everywhere(
+        ValueError,
+        r"the Gmsh model mixes 'Quadrilateral 4' and 'Triangle 3' cells",
+        readme_mesh,
+        quads="upper",
     )
 
 
