@@ -254,7 +254,24 @@ class ContactPair:
     def sub_segments(self, target: int = 0) -> SubSegments:
         """The sub-segments of the contactor facets against ``targets[target]`` (Fig. 15(b))."""
         t = self.targets[target]
-        return sub_segments(self.contactor, t, t.gather(), self.search_radius)
+        return sub_segments(self.contactor, t, t.gather_near(self.reach()), self.search_radius)
+
+    def reach(self) -> npt.NDArray[np.floating] | None:
+        """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
+
+        ``None`` without facets. Every target facet that a contactor point or swept facet
+        can meet lies in it (see :meth:`ContactSurface.gather_near`).
+        """
+        C = self.contactor.data
+        if len(C) == 0:
+            return None
+        boxes = self.contactor.bounding_boxes(C)
+        return np.stack(
+            [
+                boxes[:, 0].min(axis=0) - self.search_radius,
+                boxes[:, 1].max(axis=0) + self.search_radius,
+            ]
+        )
 
     def coupling_blocks(self) -> list[CouplingBlocks]:
         """Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40), per target.
@@ -273,7 +290,9 @@ class ContactPair:
                     f"the mesh of contact surface {surface.tag} moved after the surface was "
                     "created: create the contact surfaces and pairs again after moving a mesh"
                 )
-        gathered = [t.gather() for t in self.targets]
+        # Each process meets only the target facets within its reach.
+        region = self.reach()
+        gathered = [t.gather_near(region) for t in self.targets]
         groups = self.discretization.points(self, gathered)
         return [
             self._integrate(t, T, g) for t, T, g in zip(self.targets, gathered, groups, strict=True)

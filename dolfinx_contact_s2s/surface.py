@@ -266,19 +266,52 @@ class ContactSurface:
             fresh = self.comm.allreduce(fresh, op=MPI.LAND)
         if fresh:
             return cached[1]
-        parts = self.comm.allgather(self.data)
-        gathered = SurfaceData(
-            np.concatenate([p.coords for p in parts]),
-            np.concatenate([p.local_facet for p in parts]),
-            np.concatenate([p.dofs for p in parts]),
-            np.full(sum(len(p) for p in parts), -1, dtype=np.int32),
-            np.concatenate([p.coefficients for p in parts]),
-            np.concatenate([p.orientation for p in parts]),
-        )
+        gathered = _concatenate(self.comm.allgather(self.data))
         for array in vars(gathered).values():
             array.setflags(write=False)
         self._gathered = (self.data, gathered)
         return gathered
+
+    def gather_near(self, region: npt.NDArray[np.floating] | None) -> SurfaceData:
+        """The facets of the surface, from every process, whose boxes meet ``region``.
+
+        Collective. Each process names the axis-aligned box ``(2, gdim)`` it needs (or
+        ``None``); each process then sends every other only its own facets that meet
+        that box, in one all-to-all: a process boxes and segments against the part of a
+        target it can reach instead of the whole gathered surface. Rows keep the order
+        of :meth:`gather`. On one process this is :meth:`gather`. The result is kept
+        until :attr:`data` is replaced or a process asks for another region.
+        """
+        if self.comm.size == 1:
+            return self.gather()
+        key = None if region is None else np.asarray(region, dtype=np.float64)
+        cached = getattr(self, "_near", None)
+        fresh = (
+            cached is not None
+            and cached[0] is self.data
+            and (cached[1] is None) == (key is None)
+            and (key is None or np.array_equal(cached[1], key))
+        )
+        if self.comm.allreduce(fresh, op=MPI.LAND):
+            return cached[2]
+        regions = self.comm.allgather(key)
+        boxes = self.backend.bounding_boxes(self.data.coefficients, 5, 0.25)
+        parts: list[SurfaceData | None] = []
+        for r in regions:
+            rows = np.empty(0, dtype=np.int64)
+            if r is not None:
+                meets = np.all((boxes[:, 0] <= r[1]) & (r[0] <= boxes[:, 1]), axis=1)
+                rows = np.flatnonzero(meets)
+            parts.append(_subset(self.data, rows))
+        # This process's own part stays here: only the other parts are pickled.
+        own, parts[self.comm.rank] = parts[self.comm.rank], None
+        received = self.comm.alltoall(parts)
+        received[self.comm.rank] = own
+        near = _concatenate(received)
+        for array in vars(near).values():
+            array.setflags(write=False)
+        self._near = (self.data, key, near)
+        return near
 
     # Batched evaluation. ``rows`` selects facets of ``data``, one per point.
 
@@ -372,17 +405,23 @@ class ContactSurface:
         covers the deviation of a quadratic facet from its sample points; those of
         straight facets are exact.
         """
-        cached = getattr(self, "_gathered", None)
-        if cached is not None and data is cached[1]:
-            # The gathered facets change only with :attr:`data`: box them once.
-            boxes = getattr(self, "_gathered_boxes", None)
+        gathered = getattr(self, "_gathered", (None, None))[1]
+        near = getattr(self, "_near", (None, None, None))[2]
+        if data is gathered or data is near:
+            # The gathered facets change only with :attr:`data` (and the region of
+            # :meth:`gather_near`): box them once.
+            cache = getattr(self, "_gathered_boxes", {})
+            boxes = cache.get(id(data))
             if boxes is None or boxes[0] is not data or boxes[1] != samples:
                 boxes = (
                     data,
                     samples,
                     self.backend.bounding_boxes(data.coefficients, samples, 0.25),
                 )
-                self._gathered_boxes = boxes
+                # Only the current gathered and near facets are kept.
+                cache = {k: v for k, v in cache.items() if v[0] is gathered or v[0] is near}
+                cache[id(data)] = boxes
+                self._gathered_boxes = cache
             return boxes[2].copy()
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
@@ -393,6 +432,23 @@ class ContactSurface:
         _, x0, _ = self.evaluate(data, rows, np.zeros(n))
         _, x1, _ = self.evaluate(data, rows, np.ones(n))
         return np.linalg.norm(x1 - x0, axis=1)
+
+
+def _concatenate(parts: list[SurfaceData]) -> SurfaceData:
+    """The rows of ``parts`` (from other processes) in order; ``facets`` is -1."""
+    return SurfaceData(
+        np.concatenate([p.coords for p in parts]),
+        np.concatenate([p.local_facet for p in parts]),
+        np.concatenate([p.dofs for p in parts]),
+        np.full(sum(len(p) for p in parts), -1, dtype=np.int32),
+        np.concatenate([p.coefficients for p in parts]),
+        np.concatenate([p.orientation for p in parts]),
+    )
+
+
+def _subset(data: SurfaceData, rows: npt.NDArray[np.int64]) -> SurfaceData:
+    """The rows ``rows`` of ``data``."""
+    return SurfaceData(*(a.take(rows, axis=0) for a in vars(data).values()))
 
 
 def _cpp(obj):
