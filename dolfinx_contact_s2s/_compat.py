@@ -29,7 +29,18 @@ def gmsh_model_to_mesh(model: typing.Any, comm: typing.Any, rank: int, gdim: int
     Returns:
         ``(mesh, cell_tags, facet_tags)``, whichever DOLFINx reader is present
         (``dolfinx.io.gmshio`` up to 0.9, ``dolfinx.io.gmsh`` from 0.10).
+
+    Raises:
+        ValueError: On every rank, if the physical groups of the cells mix cell types
+            (DOLFINx 0.9's reader aborts MPI on such a model, 0.11's makes a mixed mesh).
     """
+    mixed = _mixed_cell_types(model) if comm.rank == rank else ""
+    mixed = comm.bcast(mixed, root=rank)
+    if mixed:
+        raise ValueError(
+            f"the Gmsh model mixes {mixed} cells: one mesh needs one cell type; recombine "
+            "every surface into quadrilaterals (gmsh.model.mesh.setRecombine) or none"
+        )
     if DOLFINX_VERSION >= (0, 10):
         from dolfinx.io import gmsh as _gmsh
 
@@ -38,6 +49,23 @@ def gmsh_model_to_mesh(model: typing.Any, comm: typing.Any, rank: int, gdim: int
     from dolfinx.io import gmshio as _gmshio
 
     return _gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
+
+
+def _mixed_cell_types(model: typing.Any) -> str:
+    """The names of the cell types of the model's highest physical groups, if several."""
+    groups = model.getPhysicalGroups()
+    if not groups:
+        return ""
+    dim = max(d for d, _ in groups)
+    types: set[int] = set()
+    for d, tag in groups:
+        if d == dim:
+            for entity in model.getEntitiesForPhysicalGroup(d, tag):
+                types.update(int(t) for t in model.mesh.getElementTypes(d, int(entity)))
+    if len(types) < 2:
+        return ""
+    names = sorted({model.mesh.getElementProperties(t)[0] for t in types})
+    return " and ".join(f"'{name}'" for name in names)
 
 
 def submesh_parent_entities(entity_map: typing.Any, num_cells: int) -> npt.NDArray[np.int32]:

@@ -194,6 +194,8 @@ class ContactPair:
         continuous = family in ("Lagrange", "P", "CG")
         if not continuous and family not in ("DG", "Discontinuous Lagrange"):
             raise ValueError(f"multiplier family must be 'Lagrange' or 'DG', not {family!r}")
+        if not isinstance(degree, (int, np.integer)) or degree < 0:
+            raise ValueError(f"the multiplier degree must be an integer >= 0, not {degree!r}")
         if continuous and degree < 1:
             raise ValueError("a continuous multiplier needs degree 1 or more")
         discretization.check(contactor, targets, quadrature, multiplier)
@@ -218,6 +220,12 @@ class ContactPair:
         self.multiplier_degree = degree
         self.multiplier_continuous = continuous
         self.multiplier_variant = variant
+        if search_radius is not None and not 0 < search_radius < np.inf:
+            raise ValueError(
+                f"search_radius must be positive and finite, not {search_radius!r}: the "
+                "largest normal distance at which facets are paired (default: the largest "
+                "facet size)"
+            )
         if search_radius is None:
             search_radius = default_search_radius(contactor, targets)
         self.search_radius = float(search_radius)

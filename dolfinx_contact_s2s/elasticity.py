@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import dolfinx
@@ -35,8 +36,17 @@ class Material:
         """Check the parameters."""
         if self.plane not in ("strain", "stress"):
             raise ValueError(f"plane must be 'strain' or 'stress', not {self.plane!r}")
-        if not (self.E > 0 and -1 < self.nu < 0.5):
-            raise ValueError("need E > 0 and -1 < nu < 0.5")
+        # Written so that NaN fails every comparison: E = nan and nu = nan are refused.
+        if not (0 < self.E < math.inf):
+            raise ValueError(
+                f"Young's modulus must be positive and finite, not E = {self.E!r}: give E in "
+                "the units of the loads (E > 0)"
+            )
+        if not (-1 < self.nu < 0.5):
+            raise ValueError(
+                f"Poisson's ratio must lie in (-1, 1/2), not nu = {self.nu!r}: nu = 1/2 "
+                "(incompressible) makes the stiffness infinite"
+            )
 
     @property
     def lame(self) -> tuple[float, float]:

@@ -78,6 +78,20 @@ def _dof_coordinates(Q: dolfinx.fem.FunctionSpace) -> npt.NDArray[np.floating]:
     return out
 
 
+def _check_coordinates(spaces: Sequence[dolfinx.fem.FunctionSpace]) -> None:
+    """Raise on every rank if a mesh has a node with NaN or infinite coordinates."""
+    for i, V in enumerate(spaces):
+        geometry = V.mesh.geometry
+        owned = geometry.x[: geometry.index_map().size_local]
+        local = int(np.count_nonzero(~np.all(np.isfinite(owned), axis=1)))
+        count = V.mesh.comm.allreduce(local, op=MPI.SUM)
+        if count:
+            raise ValueError(
+                f"the mesh of space {i} has {count} node(s) with NaN or infinite "
+                "coordinates; check the mesh (mesh.geometry.x) and how it was built or moved"
+            )
+
+
 def _create_vector(V: dolfinx.fem.FunctionSpace) -> PETSc.Vec:
     """A ghosted PETSc vector of ``V`` (the API moved in DOLFINx 0.10)."""
     if DOLFINX_VERSION >= (0, 10):
@@ -172,7 +186,8 @@ class LinearContactProblem:
             jit_options: Passed to :func:`dolfinx.fem.form`.
 
         Raises:
-            ValueError: On every rank, for inconsistent input.
+            ValueError: On every rank, for inconsistent input or a mesh with NaN or
+                infinite coordinates.
         """
         a, L = _as_list(a), _as_list(L)
         if len(a) != len(L) or not a:
@@ -188,6 +203,7 @@ class LinearContactProblem:
                 raise ValueError("each displacement space may carry only one form a")
             self.spaces.append(test)
         self.comm: MPI.Comm = self.spaces[0].mesh.comm
+        _check_coordinates(self.spaces)
         options = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
         self.a = [dolfinx.fem.form(ai, **options) for ai in a]
         self.L = [dolfinx.fem.form(Li, **options) for Li in L]
@@ -224,6 +240,7 @@ class LinearContactProblem:
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
         self.fields: dict[str, PETSc.IS] = {}
+        self._support: checks.SupportGram | None = None
         # PETSc objects of one assembly (kept across the systems built from it), and of
         # the current saddle-point system.
         self._owned: list[typing.Any] = []
@@ -393,8 +410,9 @@ class LinearContactProblem:
                 (:mod:`dolfinx_contact_s2s.stability`) leave it out.
 
         Raises:
-            ValueError: On every rank, with ``check``, if a body is not supported or
-                constraints are redundant.
+            ValueError: On every rank, if some :math:`\mathbf K` or :math:`\mathbf F`
+                has NaN or infinite entries; with ``check``, if a body is not supported
+                or constraints are redundant.
         """
         self._destroy_assembly()
         if not self._K:
@@ -412,6 +430,7 @@ class LinearContactProblem:
                 dolfinx.fem.petsc.apply_lifting(F, [ai], bcs=[bcs])
                 F.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
                 dolfinx.fem.petsc.set_bc(F, bcs)
+            self._check_finite()
         with self._timed("system"):
             self._decide_symmetry()
             self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
@@ -431,6 +450,25 @@ class LinearContactProblem:
                 self._check_support(self._masks)
                 self._check_redundancy(self._masks)
         self._build_system()
+
+    def _check_finite(self) -> None:
+        r"""Raise on every rank if some :math:`\mathbf K` or :math:`\mathbf F` is not finite.
+
+        A NaN or infinite material value, load or coefficient of the user's forms would
+        otherwise reach the factorization, which fails on some ranks only, or not at all.
+        """
+        for i, (K, F) in enumerate(zip(self._K, self._loads, strict=True)):
+            # Norms are collective and the same on every rank.
+            for name, norm, form in (
+                ("stiffness matrix K", K.norm(PETSc.NormType.FROBENIUS), "a"),
+                ("load vector F", F.norm(), "L"),
+            ):
+                if not np.isfinite(norm):
+                    raise ValueError(
+                        f"the {name} of space {i} has NaN or infinite entries: check the "
+                        f"material parameters, coefficients and constants of the form "
+                        f"{form}[{i}] (and the Dirichlet values)"
+                    )
 
     def _decide_symmetry(self) -> None:
         r"""Set :attr:`symmetric` from the assembled :math:`\mathbf K` (collective)."""
@@ -582,14 +620,11 @@ class LinearContactProblem:
 
     def _check_support(self, masks: list[PETSc.Vec]) -> None:
         constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
-        motions = checks.unsupported_motions(
-            self.spaces,
-            self._K,
-            masks,
-            constraints,
-            [op.inactive for op in self.operators],
-            labels=self._labels,
+        # Kept: a unilateral iteration checks its active sets against it (without K).
+        self._support = checks.support_gram(
+            self.spaces, self._K, masks, constraints, labels=self._labels
         )
+        motions = self._support.motions([op.inactive for op in self.operators])
         if motions:
             lines = "\n".join(f"  - {m.describe()}" for m in motions)
             raise ValueError(

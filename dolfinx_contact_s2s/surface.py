@@ -128,8 +128,10 @@ class ContactSurface:
 
         Raises:
             ValueError: On every rank, if no process holds a facet with ``tag``, if a
-                tagged facet is not on the mesh boundary, or if ``V`` is not a vector
-                Lagrange space on a 2D triangle or quadrilateral mesh.
+                tagged facet is not on the mesh boundary, if ``facet_tags`` belong to
+                another mesh, if ``V`` is not a vector Lagrange space on a 2D triangle or
+                quadrilateral mesh in the plane, or if a tagged facet has a node with NaN
+                or infinite coordinates or zero length (no normal, Eq. 38).
         """
         mesh = V.mesh
         comm = mesh.comm
@@ -139,11 +141,17 @@ class ContactSurface:
             raise ValueError(
                 f"facet_tags must mark facets (dimension {fdim}), not {facet_tags.dim}"
             )
-        cell_name = mesh.topology.cell_name()
-        if tdim != 2 or cell_name not in ("triangle", "quadrilateral"):
+        if _cpp(facet_tags.topology) is not _cpp(mesh.topology):
             raise ValueError(
-                f"contact surfaces are implemented for 2D triangle and quadrilateral meshes, "
-                f"not {cell_name} (tdim {tdim})"
+                "facet_tags belong to another mesh than V's: pass the facet tags of the "
+                "mesh V is built on"
+            )
+        cell_name = mesh.topology.cell_name()
+        if tdim != 2 or mesh.geometry.dim != 2 or cell_name not in ("triangle", "quadrilateral"):
+            raise ValueError(
+                f"contact surfaces are implemented for 2D triangle and quadrilateral meshes "
+                f"in the plane, not {cell_name} (tdim {tdim}, gdim {mesh.geometry.dim}); "
+                "create a 2D mesh with gdim=2"
             )
         element = V.ufl_element()
         if element.block_size != mesh.geometry.dim:
@@ -205,20 +213,25 @@ class ContactSurface:
         # Relative to each cell's first node, so that the chord and curvature terms carry
         # no round-off of the scene's position (a scene far from the origin); the basis is
         # a partition of unity, so the origin adds to the constant term only.
-        origin = coords[:, :1, :]
-        coefficients = self.backend.facet_coefficients(
-            self._facet_basis, local_facet, np.ascontiguousarray(coords - origin)
-        )
-        coefficients[:, 0, :] += origin[:, 0, :]
-        # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
-        rows = np.arange(cells.size, dtype=np.int32)
-        half = np.full(cells.size, 0.5)
-        X = self._ref_a[local_facet] + 0.5 * (self._ref_b[local_facet] - self._ref_a[local_facet])
-        tab = tabulate(self.cmap, 1, X)
-        n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
-        _, dx = self.backend.evaluate(coefficients, rows, half)
-        turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
-        orientation = np.where(turn < 0.0, -1.0, 1.0)
+        # NaN or infinite nodes raise below, on every rank; no warnings on the way there.
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            origin = coords[:, :1, :]
+            coefficients = self.backend.facet_coefficients(
+                self._facet_basis, local_facet, np.ascontiguousarray(coords - origin)
+            )
+            coefficients[:, 0, :] += origin[:, 0, :]
+            # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
+            rows = np.arange(cells.size, dtype=np.int32)
+            half = np.full(cells.size, 0.5)
+            X = self._ref_a[local_facet] + 0.5 * (
+                self._ref_b[local_facet] - self._ref_a[local_facet]
+            )
+            tab = tabulate(self.cmap, 1, X)
+            n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
+            _, dx = self.backend.evaluate(coefficients, rows, half)
+            turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
+            orientation = np.where(turn < 0.0, -1.0, 1.0)
+            _check_geometry(comm, tag, coords, coefficients, n)
         self.data = SurfaceData(
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
@@ -436,6 +449,51 @@ def _concatenate(parts: list[SurfaceData]) -> SurfaceData:
 def _subset(data: SurfaceData, rows: npt.NDArray[np.int64]) -> SurfaceData:
     """The rows ``rows`` of ``data``."""
     return SurfaceData(*(a.take(rows, axis=0) for a in vars(data).values()))
+
+
+def _cpp(obj):
+    """The C++ object behind a DOLFINx wrapper (the wrappers differ between versions)."""
+    return getattr(obj, "_cpp_object", obj)
+
+
+#: A contact facet whose chord is shorter than this fraction of its cell's extent is
+#: degenerate (two nodes coincide): it has no normal.
+DEGENERATE_TOLERANCE = 1e-12
+
+
+def _check_geometry(
+    comm: MPI.Comm,
+    tag: int,
+    coords: npt.NDArray[np.floating],
+    coefficients: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
+) -> None:
+    """Raise on every rank for NaN or infinite nodes, or zero-length facets (collective).
+
+    One reduction of two counts; the location of a degenerate facet is gathered only
+    when there is one, so that every rank raises the same message.
+    """
+    finite = np.all(np.isfinite(coords), axis=(1, 2))
+    extent = np.max(np.abs(coords - coords[:, :1, :]), axis=(1, 2), initial=0.0)
+    chord = np.linalg.norm(np.sum(coefficients[:, 1:, :], axis=1), axis=1)
+    flat = finite & (
+        ~(chord > DEGENERATE_TOLERANCE * extent) | ~np.all(np.isfinite(normals), axis=1)
+    )
+    bad = comm.allreduce(np.array([np.count_nonzero(~finite), np.count_nonzero(flat)]))
+    if bad[0]:
+        raise ValueError(
+            f"contact surface {tag}: the cells of {bad[0]} facet(s) have a node with NaN or "
+            "infinite coordinates; check the mesh (mesh.geometry.x) and how it was built or "
+            "moved"
+        )
+    if bad[1]:
+        where = coefficients[flat, 0, :][:1]
+        first = next(w for w in comm.allgather(where) if w.size)[0]
+        raise ValueError(
+            f"contact surface {tag}: {bad[1]} facet(s) have zero length (two nodes "
+            f"coincide), the first at ({first[0]:.6g}, {first[1]:.6g}): they have no "
+            "normal; remove the duplicate nodes from the mesh"
+        )
 
 
 def contact_surface(

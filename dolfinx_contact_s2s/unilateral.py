@@ -463,6 +463,29 @@ class UnilateralContactProblem(LinearContactProblem):
     def _fail(self, message: str) -> typing.NoReturn:
         raise ContactConvergenceError(message, self.history)
 
+    def _check_active_support(self, step: LoadStep, released: list[npt.NDArray[np.int64]]) -> None:
+        """Raise if the active set leaves a body free (Eq. 33 on the active rows only).
+
+        A body held by contact alone floats once its contact opens: its system is
+        singular, and a direct solver returns arbitrary displacements (or, with no load
+        on it, cycles between active sets until ``max_iterations``).
+        """
+        if self._support is None:
+            return
+        inactive = [
+            np.union1d(op.inactive, r) for op, r in zip(self.operators, released, strict=True)
+        ]
+        motions = self._support.motions(inactive)
+        if motions:
+            lines = "\n".join(f"  - {m.describe()}" for m in motions)
+            self._fail(
+                f"solve {len(step.iterations) + 1} at load {step.load:g}: the active set "
+                "leaves these rigid motions free, held by contact alone and the contact "
+                f"open (Eq. 33):\n{lines}\nHold every body by a Dirichlet condition (a "
+                "body held by contact alone makes the system singular once it opens), "
+                "start from start='tied', or take smaller load steps."
+            )
+
     def _solve_linear(self, step: LoadStep) -> None:
         """Solve the current saddle point; a failure becomes a contact error with history."""
         try:
@@ -533,7 +556,9 @@ class UnilateralContactProblem(LinearContactProblem):
     ) -> list[npt.NDArray[np.bool_]]:
         """Semismooth Newton (primal-dual active set) iterations of one load step."""
         for _ in range(self.max_iterations):
-            self._build_system(self._released(active), load=step.load)
+            released = self._released(active)
+            self._build_system(released, load=step.load)
+            self._check_active_support(step, released)
             self._solve_linear(step)
             z, residual = self._complementarity(self._lambdas(), self._weighted_gaps())
             new, entered, left = self._update(active, z)

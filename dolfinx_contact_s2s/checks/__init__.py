@@ -71,7 +71,9 @@ from dolfinx_contact_s2s.checks.rank import (
 from dolfinx_contact_s2s.checks.support import (
     UNSUPPORTED_TOL,
     RigidMotion,
+    SupportGram,
     UnsupportedMotion,
+    support_gram,
     unsupported_motions,
 )
 
@@ -80,6 +82,7 @@ __all__ = [
     "UNSUPPORTED_TOL",
     "Redundancy",
     "RigidMotion",
+    "SupportGram",
     "UnsupportedMotion",
     "connected_components",
     "joint_redundant_constraints",
@@ -88,5 +91,6 @@ __all__ = [
     "redundant_constraints",
     "redundant_multipliers",
     "rigid_body_modes",
+    "support_gram",
     "unsupported_motions",
 ]

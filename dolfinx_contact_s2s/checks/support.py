@@ -22,12 +22,18 @@ from dolfinx_contact_s2s.checks.bodies import Bodies, body_set
 from dolfinx_contact_s2s.checks.linalg import (
     csr_rows,
     echelon,
-    owned_rows,
     petsc_vector,
     unit_rows,
 )
 
-__all__ = ["UNSUPPORTED_TOL", "RigidMotion", "UnsupportedMotion", "unsupported_motions"]
+__all__ = [
+    "UNSUPPORTED_TOL",
+    "RigidMotion",
+    "SupportGram",
+    "UnsupportedMotion",
+    "support_gram",
+    "unsupported_motions",
+]
 
 UNSUPPORTED_TOL: float = 1e-10
 """Relative eigenvalue of the normalized Gram matrix below which a rigid motion is free."""
@@ -213,14 +219,78 @@ def unsupported_motions(
     Returns:
         The unsupported motions, the same on every process; empty if Eq. (33) holds.
     """
+    gram = support_gram(spaces, stiffness, dirichlet_masks, constraints, labels=labels, tol=tol)
+    return gram.motions(inactive)
+
+
+@dataclass(frozen=True)
+class SupportGram:
+    r"""The parts of :math:`\mathbf G` of :func:`unsupported_motions` (Eq. 33), kept.
+
+    :math:`\mathbf G_D + \mathbf G_K` does not depend on which contact rows are active,
+    and :math:`\mathbf G_B` is a sum over rows: :meth:`motions` checks any active set
+    (an iteration of unilateral contact) with one small reduction, without :math:`\mathbf K`.
+
+    Attributes:
+        fixed: :math:`\mathbf G_D + \mathbf S\mathbf G_K\mathbf S`, the same on every process.
+        rows: Per pair, the unit rows of :math:`\mathbf B\mathbf R` this process owns.
+        ranges: Per pair, the global range of the rows this process owns.
+        bodies: The bodies of every space.
+        comm: The communicator.
+        tol: Relative eigenvalue threshold.
+    """
+
+    fixed: npt.NDArray[np.floating]
+    rows: list[scipy.sparse.csr_matrix | None]
+    ranges: list[tuple[int, int]]
+    bodies: list[Bodies]
+    comm: MPI.Comm
+    tol: float
+
+    def motions(self, inactive: Sequence[npt.ArrayLike | None]) -> list[UnsupportedMotion]:
+        """The unsupported motions with the rows ``inactive`` of each pair left out.
+
+        Args:
+            inactive: Per pair, global indices of the multiplier rows to ignore (each
+                process may pass any subset; their union is used), or ``None``.
+
+        Returns:
+            The unsupported motions, the same on every process (collective).
+        """
+        G = np.zeros_like(self.fixed)
+        for p, (Bn, (start, end)) in enumerate(zip(self.rows, self.ranges, strict=True)):
+            listed = inactive[p] if p < len(inactive) else None
+            listed = np.zeros(0, np.int64) if listed is None else np.asarray(listed, np.int64)
+            listed = np.unique(np.concatenate(self.comm.allgather(listed.ravel())))
+            if Bn is None:
+                continue
+            active = np.ones(end - start, dtype=np.bool_)
+            active[listed[(listed >= start) & (listed < end)] - start] = False
+            rows = Bn[active]
+            G += (rows.T @ rows).toarray()
+        G = self.comm.allreduce(G) + self.fixed
+        G = self.comm.bcast(0.5 * (G + G.T), root=0)  # identical input: identical results
+        return _null_motions(G, self.bodies, self.tol)
+
+
+def support_gram(
+    spaces: Sequence[dolfinx.fem.FunctionSpace],
+    stiffness: Sequence[PETSc.Mat],
+    dirichlet_masks: Sequence[PETSc.Vec],
+    constraints: Sequence[Sequence[tuple[int, PETSc.Mat]]],
+    *,
+    labels: Sequence[npt.NDArray[np.int32] | None] | None = None,
+    tol: float = UNSUPPORTED_TOL,
+) -> SupportGram:
+    """The :class:`SupportGram` of the arguments of :func:`unsupported_motions` (collective)."""
+    comm = spaces[0].mesh.comm if spaces else MPI.COMM_SELF
     if len(spaces) == 0:
-        return []
-    comm = spaces[0].mesh.comm
+        return SupportGram(np.zeros((0, 0)), [], [], [], comm, tol)
     bodies = [body_set(V, None if labels is None else labels[s]) for s, V in enumerate(spaces)]
     offsets = np.cumsum([0] + [b.count * b.modes for b in bodies])
     N = int(offsets[-1])
     col_sizes = (N if comm.rank == 0 else 0, N)
-    G = np.zeros((2, N, N))  # G_D + G_B, G_K
+    G = np.zeros((2, N, N))  # G_D, G_K
 
     R_petsc, q_petsc = [], []
     colnorm2 = np.zeros(N)
@@ -268,8 +338,12 @@ def unsupported_motions(
         R_petsc.append(R)
         q_petsc.append(petsc_vector(comm, rownorm2, 1))
 
-    for p, pair in enumerate(constraints):
+    rows: list[scipy.sparse.csr_matrix | None] = []
+    ranges: list[tuple[int, int]] = []
+    for pair in constraints:
         if len(pair) == 0:
+            rows.append(None)
+            ranges.append((0, 0))
             continue
         BR = None
         w = None
@@ -289,9 +363,8 @@ def unsupported_motions(
             wv.destroy()
             B2.destroy()
         assert BR is not None and w is not None
-        active = owned_rows(pair[0][1], inactive[p] if p < len(inactive) else None)
-        Bn = unit_rows(BR[active], w[active])
-        G[0] += (Bn.T @ Bn).toarray()
+        rows.append(unit_rows(BR, w).tocsr())
+        ranges.append(pair[0][1].getOwnershipRange())
     for M in R_petsc:
         M.destroy()
     for v in q_petsc:
@@ -305,9 +378,8 @@ def unsupported_motions(
         cols = slice(offsets[s], offsets[s + 1])
         if kmax[s] > 0.0:
             G[1][cols] /= kmax[s]
-    G = G[0] + S[:, None] * G[1] * S[None, :]
-    G = comm.bcast(0.5 * (G + G.T), root=0)  # identical input: identical results
-    return _null_motions(G, bodies, tol)
+    fixed = G[0] + S[:, None] * G[1] * S[None, :]
+    return SupportGram(fixed, rows, ranges, bodies, comm, tol)
 
 
 def _add_blocks(
