@@ -133,14 +133,15 @@ def swept_boxes(
     A straight facet swept along :math:`\pm r \mathbf n` covers a parallelogram whose
     box is the facet's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved
     facet's box grows by :math:`r` in every direction. The boxes of the surface's own
-    facets are kept until :attr:`~ContactSurface.data` is replaced (a copy is returned).
+    facets are kept until :attr:`~ContactSurface.data` is replaced (read-only).
     """
     cached = getattr(surface, "_swept_boxes", None)
     if cached is not None and cached[0] is data and cached[1] == radius:
-        return cached[2].copy()
+        return cached[2]
     boxes = _swept_boxes(surface, data, radius)
     if data is surface.data:
-        surface._swept_boxes = (data, radius, boxes.copy())
+        boxes.setflags(write=False)
+        surface._swept_boxes = (data, radius, boxes)
     return boxes
 
 

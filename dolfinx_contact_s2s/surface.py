@@ -236,7 +236,8 @@ class ContactSurface:
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
         # The geometry dofs of the facets' cells, to notice a mesh moved after this point.
-        self._x_dofs = x_dofs
+        self._x_nodes = np.unique(x_dofs)
+        self._x_start = self.V.mesh.geometry.x[self._x_nodes, :gdim].copy()
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).
@@ -245,9 +246,8 @@ class ContactSurface:
         nodes at creation; a mesh moved afterwards (``mesh.geometry.x += ...``) would
         otherwise be coupled with its old contact geometry.
         """
-        coords = self.data.coords
-        now = self.V.mesh.geometry.x[self._x_dofs][:, :, : coords.shape[2]]
-        return self.comm.allreduce(not np.array_equal(now, coords), op=MPI.LOR)
+        now = self.V.mesh.geometry.x[self._x_nodes, : self._x_start.shape[1]]
+        return self.comm.allreduce(not np.array_equal(now, self._x_start), op=MPI.LOR)
 
     @property
     def comm(self) -> MPI.Comm:
@@ -403,7 +403,7 @@ class ContactSurface:
 
         The boxes of curved facets are padded by a quarter of each facet's size, which
         covers the deviation of a quadratic facet from its sample points; those of
-        straight facets are exact.
+        straight facets are exact. The boxes of gathered facets are cached (read-only).
         """
         gathered = getattr(self, "_gathered", (None, None))[1]
         near = getattr(self, "_near", (None, None, None))[2]
@@ -418,11 +418,12 @@ class ContactSurface:
                     samples,
                     self.backend.bounding_boxes(data.coefficients, samples, 0.25),
                 )
+                boxes[2].setflags(write=False)
                 # Only the current gathered and near facets are kept.
                 cache = {k: v for k, v in cache.items() if v[0] is gathered or v[0] is near}
                 cache[id(data)] = boxes
                 self._gathered_boxes = cache
-            return boxes[2].copy()
+            return boxes[2]
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
     def sizes(self, data: SurfaceData) -> npt.NDArray[np.floating]:
