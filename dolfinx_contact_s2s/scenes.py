@@ -34,7 +34,12 @@ __all__ = [
 
 
 def model_to_mesh(
-    model: typing.Any, comm: MPI.Comm, rank: int = 0, gdim: int = 2
+    model: typing.Any,
+    comm: MPI.Comm,
+    rank: int = 0,
+    gdim: int = 2,
+    *,
+    partitioner: typing.Callable | None = None,
 ) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
     """DOLFINx's Gmsh reader, whatever its version: ``(mesh, cell_tags, facet_tags)``.
 
@@ -43,8 +48,13 @@ def model_to_mesh(
         comm: Communicator to distribute the mesh over.
         rank: Rank that holds the model.
         gdim: Geometric dimension.
+        partitioner: Cell partitioner of :func:`dolfinx.mesh.create_mesh`, called as
+            ``partitioner(comm, nparts, cell_types, cells)`` on every process with the
+            cells it holds (vertex indices into the model's nodes, Gmsh tag minus one);
+            it returns each cell's destination rank as an adjacency list. None:
+            DOLFINx's graph partitioner.
     """
-    return gmsh_model_to_mesh(model, comm, rank, gdim)
+    return gmsh_model_to_mesh(model, comm, rank, gdim, partitioner)
 
 
 #: Facet tags of a rectangular block.

@@ -248,7 +248,11 @@ def _snap(gmsh: typing.Any, block: Block, lines: dict[str, int], geometry_degree
 
 
 def _mesh_blocks(
-    comm: MPI.Comm, blocks: list[Block], cell: str, geometry_degree: int
+    comm: MPI.Comm,
+    blocks: list[Block],
+    cell: str,
+    geometry_degree: int,
+    partitioner: typing.Callable | None = None,
 ) -> dict[str, MeshPart]:
     """Mesh the blocks on rank 0, one Gmsh model per mesh name, and distribute them."""
     names = list(dict.fromkeys(b.mesh for b in blocks))
@@ -259,7 +263,7 @@ def _mesh_blocks(
             gmsh.model.add(name)
             if comm.rank == 0:
                 _model_blocks(gmsh, mine, cell, geometry_degree)
-            mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, gdim=2)
+            mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, 2, partitioner)
             gmsh.model.remove()
             mesh.name = name
             parts[name] = MeshPart(name, mesh, cell_tags, facet_tags, tuple(b.name for b in mine))
@@ -397,6 +401,7 @@ def three_blocks(
     cell: str = "triangle",
     geometry_degree: int = 1,
     height: float = 0.5,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test of Taylor and Papadopoulos (ref. [17], Fig. 3 of the paper).
 
@@ -419,6 +424,8 @@ def three_blocks(
         cell: ``"triangle"`` or ``"quadrilateral"``.
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower_left"`` (cells 1, facets 10, 12, 13, 14),
@@ -440,7 +447,7 @@ def three_blocks(
     return BlocksScene(
         "three blocks",
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower_left", "right"), ("lower_right", "left"), ("upper", "left")),
         fixed_y=(("lower_left", "bottom"), ("lower_right", "bottom")),
         loaded=(("upper", "top"),),
