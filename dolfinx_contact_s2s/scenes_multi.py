@@ -281,6 +281,7 @@ def _two_blocks(
     height: float,
     layers: tuple[int, int] | None,
     arrangement: str,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     _check(cell, geometry_degree, arrangement)
     one = arrangement == "one mesh"
@@ -309,7 +310,7 @@ def _two_blocks(
     return BlocksScene(
         name,
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower", "left"), ("upper", "left")),
         fixed_y=(("lower", "bottom"),),
         loaded=(("upper", "top"),),
@@ -325,6 +326,7 @@ def two_blocks_one_mesh(
     width: float = 1.0,
     height: float = 0.5,
     layers: tuple[int, int] | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test of Figs. 4 and 6 with both blocks in ONE mesh.
 
@@ -341,6 +343,8 @@ def two_blocks_one_mesh(
         width: :math:`W`.
         height: :math:`H`.
         layers: Elements across the height of each block (default: about square cells).
+        partitioner: Cell partitioner of the mesh (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene, with its one mesh in ``parts["blocks"]``. Cells: lower 1, upper 2.
@@ -348,7 +352,17 @@ def two_blocks_one_mesh(
         top 23, left 24.
     """
     return _two_blocks(
-        comm, "two blocks", elements, 0.0, cell, geometry_degree, width, height, layers, "one mesh"
+        comm,
+        "two blocks",
+        elements,
+        0.0,
+        cell,
+        geometry_degree,
+        width,
+        height,
+        layers,
+        "one mesh",
+        partitioner,
     )
 
 
@@ -363,6 +377,7 @@ def overhang(
     width: float = 1.0,
     height: float = 0.5,
     layers: tuple[int, int] | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test with the upper block shifted by ``shift``: it overhangs the lower one.
 
@@ -382,13 +397,25 @@ def overhang(
         width: :math:`W` of both blocks.
         height: :math:`H` of both blocks.
         layers: Elements across the height of each block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene; tags as in :func:`two_blocks_one_mesh`, meshes ``"blocks"`` (one
         mesh) or ``"lower"`` and ``"upper"``.
     """
     return _two_blocks(
-        comm, "overhang", elements, shift, cell, geometry_degree, width, height, layers, arrangement
+        comm,
+        "overhang",
+        elements,
+        shift,
+        cell,
+        geometry_degree,
+        width,
+        height,
+        layers,
+        arrangement,
+        partitioner,
     )
 
 
@@ -463,6 +490,7 @@ def two_on_one(
     cell: str = "triangle",
     geometry_degree: int = 1,
     height: float = 0.5,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""Two upper blocks side by side resting on one lower block (Fig. 3 upside down).
 
@@ -482,6 +510,8 @@ def two_on_one(
         cell: ``"triangle"`` or ``"quadrilateral"``.
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower"`` (cells 1, facets 10, 12, 13, 14),
@@ -504,7 +534,7 @@ def two_on_one(
     return BlocksScene(
         "two on one",
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower", "left"), ("upper_left", "right"), ("upper_right", "left")),
         fixed_y=(("lower", "bottom"),),
         loaded=(("upper_left", "top"), ("upper_right", "top")),

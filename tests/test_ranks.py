@@ -57,8 +57,16 @@ from dolfinx_contact_s2s import Material, contact_surface
 from dolfinx_contact_s2s.checks import connected_components
 from dolfinx_contact_s2s.coupling import contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes import gmsh_session, model_to_mesh
-from dolfinx_contact_s2s.scenes_multi import three_blocks
+from dolfinx_contact_s2s.scenes import (
+    BOTTOM,
+    TOP,
+    gmsh_session,
+    inf_sup_model,
+    model_to_mesh,
+    patch_test,
+)
+from dolfinx_contact_s2s.scenes_multi import overhang, three_blocks, two_on_one
+from dolfinx_contact_s2s.studies.blocks import block_problem
 from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 
@@ -73,10 +81,8 @@ OMEGA_FACTOR = 100.0
 X_FACTOR = 2 * OMEGA_FACTOR
 
 PARTITIONS = ("default", "contact on rank 0", "crossed")
-
-#: (E, nu) of the three blocks by cell tag: each its own (the lower two of the same
-#: vertical compliance, as the patch solution needs).
-BLOCK_MATERIALS = {1: (1.0, 0.3), 2: ((1 - 0.2**2) / (1 - 0.3**2), 0.2), 3: (3.0, 0.25)}
+#: The partitions forced on the Gmsh reader.
+FORCED = PARTITIONS[1:]
 
 #: Largest disagreement seen per quantity: absolute and relative to its bound.
 SUMMARY: dict[str, dict] = {}
@@ -90,13 +96,13 @@ SOLVES: dict[str, typing.Any] = {"omega_over_eps": 0.0, "kappa": 0.0}
 # Partitions forced on the Gmsh reader
 
 
-def partitioner(rule: str, contact_tags: tuple[int, ...], y0: float):
+def partitioner(rule: str, contact_tags: tuple[int, ...] | dict[str, tuple[int, ...]], y0: float):
     """A cell partitioner for :func:`~dolfinx_contact_s2s.scenes.model_to_mesh`.
 
     The process holding the Gmsh model decides from the model's nodes: a cell is a
     contact cell when two of its vertices lie on a curve of ``contact_tags`` (it then
-    has a contact facet); ``y0`` separates the bodies below (targets or contactors)
-    from those above.
+    has a contact facet; a dict gives the tags of each Gmsh model by name); ``y0``
+    separates the bodies below (targets or contactors) from those above.
 
     - ``"contact on rank 0"``: every contact cell on rank 0, the other cells on ranks
       1, 2, ... in vertical slabs: those ranks own no contact facet.
@@ -116,7 +122,10 @@ def partitioner(rule: str, contact_tags: tuple[int, ...], y0: float):
             x = np.zeros((int(tags.max()), 3))
             x[tags.astype(np.int64) - 1] = np.reshape(xyz, (-1, 3))
             on = np.zeros(x.shape[0], dtype=bool)
-            for tag in contact_tags:
+            curves = contact_tags
+            if isinstance(curves, dict):
+                curves = curves[gmsh.model.getCurrent()]
+            for tag in curves:
                 nodes, _ = gmsh.model.mesh.getNodesForPhysicalGroup(1, tag)
                 on[np.asarray(nodes, dtype=np.int64) - 1] = True
             mid = x[topology].mean(axis=1)
@@ -138,7 +147,7 @@ def partitioner(rule: str, contact_tags: tuple[int, ...], y0: float):
     return partition
 
 
-def _partitioner(partition: str, contact_tags: tuple[int, ...], y0: float):
+def _partitioner(partition: str, contact_tags, y0: float):
     return None if partition == "default" else partitioner(partition, contact_tags, y0)
 
 
@@ -174,13 +183,49 @@ def readme_scene(comm_name: str, partition: str):
     return mesh, facets
 
 
+#: The scenes of :mod:`~dolfinx_contact_s2s.scenes_multi` in one mesh: constructor, (E, nu)
+#: by cell tag (each block its own; blocks side by side under one block of the same
+#: vertical compliance), pairs as (contactor block, [target blocks]) of bottoms on tops,
+#: and the tags of their contact lines.
+MULTI = {
+    "three blocks": (
+        three_blocks,
+        {1: (1.0, 0.3), 2: ((1 - 0.2**2) / (1 - 0.3**2), 0.2), 3: (3.0, 0.25)},
+        [("upper", ["lower_left", "lower_right"])],
+        (13, 23, 30),
+    ),
+    "overhang": (overhang, {1: (1.0, 0.3), 2: (3.0, 0.2)}, [("upper", ["lower"])], (10, 20)),
+    "two on one": (
+        two_on_one,
+        {1: (1.0, 0.3), 2: (3.0, 0.2), 3: (3.0, 0.2)},
+        [("upper_left", ["lower"]), ("upper_right", ["lower"])],
+        (13, 20, 30),
+    ),
+}
+
+
 @functools.cache
-def blocks_scene(comm_name: str, partition: str):
-    """Three blocks in one mesh: the upper block's bottom (30) faces two lower tops (13, 23)."""
-    comm = MPI.COMM_WORLD if comm_name == "world" else MPI.COMM_SELF
-    return three_blocks(
-        comm, arrangement="one mesh", partitioner=_partitioner(partition, (13, 23, 30), 0.5)
+def multi_scene(name: str, comm_name: str, partition: str):
+    """A scene of several blocks in ONE mesh (one displacement space for all bodies)."""
+    build, _, _, tags = MULTI[name]
+    return build(
+        _comm(comm_name), arrangement="one mesh", partitioner=_partitioner(partition, tags, 0.5)
     )
+
+
+@functools.cache
+def two_meshes(comm_name: str, partition: str, inf_sup: bool):
+    """The studies' two blocks, a mesh each: the patch test, or the overlapping inf-sup model.
+
+    The contact lines: the lower mesh's top (3), the upper mesh's bottom (1).
+    """
+    tags = {"lower": (TOP,), "upper": (BOTTOM,)}
+    split = _partitioner(partition, tags, 0.5)
+    if inf_sup:
+        return inf_sup_model(
+            _comm(comm_name), (10, 7), cell="quadrilateral", geometry_degree=2, partitioner=split
+        )
+    return patch_test(_comm(comm_name), (10, 7), partitioner=split)
 
 
 def _comm(comm_name: str) -> MPI.Comm:
@@ -196,11 +241,13 @@ class Case:
     """One scene and discretization.
 
     Attributes:
-        scene: ``"readme"``, ``"three blocks"`` or ``"hertz"``.
+        scene: ``"readme"``, one of :data:`MULTI`, ``"patch test"``, ``"inf-sup model"``
+            or ``"hertz"``.
         degree: Displacement degree.
         method: ``contact_pairs``'s method.
         contactor: ``"upper"`` or ``"lower"`` body as the contactor.
         cell: Hertz only: the cell type.
+        multiplier: ``contact_pair``'s multiplier space (None: its default).
     """
 
     scene: str
@@ -208,10 +255,12 @@ class Case:
     method: str = "segment-to-segment"
     contactor: str = "upper"
     cell: str = "triangle"
+    multiplier: tuple[str, int] | None = None
 
     @property
     def id(self) -> str:
-        return f"{self.scene}-P{self.degree}-{self.method}-{self.contactor}-{self.cell}"
+        space = "" if self.multiplier is None else f"-{self.multiplier[0]}{self.multiplier[1]}"
+        return f"{self.scene}-P{self.degree}-{self.method}{space}-{self.contactor}-{self.cell}"
 
 
 CASES = [
@@ -222,12 +271,32 @@ CASES = [
     Case("readme", 1, "node-to-segment"),
     Case("readme", 1, "two-pass node-to-segment"),
     Case("readme", 1, "intermediate-surface"),
+    Case("readme", 1, multiplier=("DG", 0)),
+    # Several bodies in one mesh: a contactor facing two targets, uncovered multipliers
+    # (the upper block overhangs), two contactors on one target.
     Case("three blocks", 1),
-    Case("three blocks", 2),
+    Case("overhang", 1),
+    Case("two on one", 1),
+    # Two meshes and spaces (the studies' scenes); the inf-sup model overlaps (G != 0).
+    Case("patch test", 1, contactor="lower"),
+    Case("inf-sup model", 2, cell="quadrilateral"),
     # Unilateral contact, active sets; curved (P2 geometry) arcs of two cylinders.
     Case("hertz", 1),
     Case("hertz", 2, cell="quadrilateral"),
 ]
+
+
+#: The cases also run on DOLFINx's own partition.
+DEFAULT_PARTITION = {
+    Case("readme", 1),
+    Case("readme", 2, contactor="lower"),
+    Case("three blocks", 1),
+    Case("patch test", 1, contactor="lower"),
+    Case("inf-sup model", 2, cell="quadrilateral"),
+    Case("hertz", 1),
+    Case("hertz", 2, cell="quadrilateral"),
+}
+assert DEFAULT_PARTITION <= set(CASES)
 
 
 def _hertz_case(case: Case) -> HertzCase:
@@ -260,18 +329,21 @@ def _readme_problem(case: Case, comm_name: str, partition: str, prefix: str):
     surfaces = {"upper": contact_surface(V, facets, 20), "lower": contact_surface(V, facets, 10)}
     target = "lower" if case.contactor == "upper" else "upper"
     options = {"weight": "tributary"} if case.method == "node-to-segment" else {}
+    if case.multiplier is not None:
+        options["multiplier"] = case.multiplier
     pairs = contact_pairs(surfaces[case.contactor], surfaces[target], method=case.method, **options)
     return LinearContactProblem(a, L, pairs, bcs, petsc_options_prefix=prefix)
 
 
-def _blocks_problem(case: Case, comm_name: str, partition: str, prefix: str):
-    scene = blocks_scene(comm_name, partition)
+def _multi_problem(case: Case, comm_name: str, partition: str, prefix: str):
+    scene = multi_scene(case.scene, comm_name, partition)
+    _, materials, pairs_spec, _ = MULTI[case.scene]
     part = scene.parts["blocks"]
     mesh, ft = part.mesh, part.facet_tags
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", case.degree, (2,)))
     Q0 = dolfinx.fem.functionspace(mesh, ("Discontinuous Lagrange", 0))
     mu, lmbda = dolfinx.fem.Function(Q0), dolfinx.fem.Function(Q0)
-    for tag, (E, nu) in BLOCK_MATERIALS.items():
+    for tag, (E, nu) in materials.items():
         m, lm = Material(E, nu).lame
         dofs = Q0.dofmap.list[part.cell_tags.find(tag)].ravel()
         mu.x.array[dofs], lmbda.x.array[dofs] = m, lm
@@ -285,7 +357,7 @@ def _blocks_problem(case: Case, comm_name: str, partition: str, prefix: str):
 
     a = ufl.inner(sigma(u), ufl.sym(ufl.grad(v))) * ufl.dx
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft)
-    L = -0.75 * v[1] * ds(scene.tag("upper", "top"))
+    L = sum(-0.75 * v[1] * ds(scene.tag(block, side)) for block, side in scene.loaded)
     bcs = []
     for component, sides in enumerate((scene.fixed_x, scene.fixed_y)):
         for block, side in sides:
@@ -293,12 +365,27 @@ def _blocks_problem(case: Case, comm_name: str, partition: str, prefix: str):
                 V.sub(component), 1, ft.find(scene.tag(block, side))
             )
             bcs.append(dolfinx.fem.dirichletbc(0.0, dofs, V.sub(component)))
-    upper = contact_surface(V, ft, scene.tag("upper", "bottom"))
-    lower = [
-        contact_surface(V, ft, scene.tag(name, "top")) for name in ("lower_left", "lower_right")
-    ]
-    pairs = contact_pairs(upper, lower, method=case.method)
+    pairs = []
+    for contactor, targets in pairs_spec:
+        pairs += contact_pairs(
+            contact_surface(V, ft, scene.tag(contactor, "bottom")),
+            [contact_surface(V, ft, scene.tag(t, "top")) for t in targets],
+            method=case.method,
+        )
     return LinearContactProblem(a, L, pairs, bcs, petsc_options_prefix=prefix)
+
+
+def _two_meshes_problem(case: Case, comm_name: str, partition: str, prefix: str):
+    inf_sup = case.scene == "inf-sup model"
+    return block_problem(
+        two_meshes(comm_name, partition, inf_sup),
+        (case.degree, case.degree),
+        case.contactor,
+        support="clamped" if inf_sup else "rollers",
+        pressure=0.0 if inf_sup else 1.0,
+        petsc_options_prefix=prefix,
+        method=case.method,
+    )
 
 
 @functools.cache
@@ -322,7 +409,9 @@ def _hertz_problem(case: Case, comm_name: str, partition: str, prefix: str):
 
 
 def problem(case: Case, comm_name: str, partition: str) -> LinearContactProblem:
-    build = {"readme": _readme_problem, "three blocks": _blocks_problem, "hertz": _hertz_problem}
+    build = {"readme": _readme_problem, "hertz": _hertz_problem}
+    build |= dict.fromkeys(MULTI, _multi_problem)
+    build |= dict.fromkeys(("patch test", "inf-sup model"), _two_meshes_problem)
     return build[case.scene](case, comm_name, partition, f"ranks_{comm_name}_")
 
 
@@ -551,21 +640,22 @@ def _check_partition(partition: str, facets: list[dict]) -> list:
     everywhere = [comm.allgather((f["contactor"], f["targets"])) for f in facets]
     if comm.size == 1 or partition == "default":
         return everywhere
-    for f, owned in zip(facets, everywhere, strict=True):
-        counts = np.array(owned)
-        if partition == "contact on rank 0":
-            assert counts[1:].sum() == 0 and counts[0].min() > 0, counts
-        else:
-            assert np.count_nonzero(counts[:, 0]) >= 2, counts
-            # Contactor facets facing a target facet owned by another rank.
-            ranges = comm.allgather(np.concatenate(f["target_ranges"]))
-            x = f["contactor_x"]
-            facing = np.array(
-                [((x[:, None] > r[:, 0]) & (x[:, None] < r[:, 1])).any(axis=1) for r in ranges]
-            ).reshape(comm.size, x.size)
-            others = np.delete(facing, comm.rank, axis=0).any(axis=0)
-            split = comm.allreduce(int(np.count_nonzero(others)))
-            assert split > 0, "no contactor facet faces a target facet of another rank"
+    counts = np.array(everywhere)  # (pairs, ranks, 2)
+    if partition == "contact on rank 0":
+        assert counts[:, 1:].sum() == 0 and counts[:, 0].min() > 0, counts
+        return everywhere
+    # Crossed: the contact facets on several ranks, and in every pair contactor facets
+    # facing a target facet of another rank.
+    assert np.count_nonzero(counts.sum(axis=(0, 2))) >= 2, counts
+    for f in facets:
+        ranges = comm.allgather(np.concatenate(f["target_ranges"]))
+        x = f["contactor_x"]
+        facing = np.array(
+            [((x[:, None] > r[:, 0]) & (x[:, None] < r[:, 1])).any(axis=1) for r in ranges]
+        ).reshape(comm.size, x.size)
+        others = np.delete(facing, comm.rank, axis=0).any(axis=0)
+        split = comm.allreduce(int(np.count_nonzero(others)))
+        assert split > 0, "no contactor facet faces a target facet of another rank"
     return everywhere
 
 
@@ -579,8 +669,18 @@ def summary():
             json.dump(out | {"owned_contact_facets": PARTITION_COUNTS}, f, indent=1)
 
 
-@pytest.mark.parametrize("partition", PARTITIONS)
-@pytest.mark.parametrize("case", CASES, ids=lambda c: c.id)
+def _runs() -> list:
+    """Every case on the forced partitions, a few also on DOLFINx's; on one rank, once."""
+    if MPI.COMM_WORLD.size == 1:
+        return [pytest.param(c, "default", id=f"{c.id}-default") for c in CASES]
+    return [
+        pytest.param(c, partition, id=f"{c.id}-{partition}")
+        for c in CASES
+        for partition in (PARTITIONS if c in DEFAULT_PARTITION else FORCED)
+    ]
+
+
+@pytest.mark.parametrize(("case", "partition"), _runs())
 def test_same_on_any_number_of_ranks(case, partition):
     world = record(case, "world", partition)
     serial = serial_record(case)
