@@ -80,9 +80,9 @@ OMEGA_FACTOR = 100.0
 #: Bound on |x_world - x_self| in units of eps kappa_inf(A) ||x||_inf: 2 omega.
 X_FACTOR = 2 * OMEGA_FACTOR
 
-PARTITIONS = ("default", "contact on rank 0", "crossed")
-#: The partitions forced on the Gmsh reader.
-FORCED = PARTITIONS[1:]
+PARTITIONS = ("default", "contact on rank 0", "crossed", "bodies apart")
+#: The partitions every case runs on (a few cases run on all).
+FORCED = ("contact on rank 0", "crossed")
 
 #: Largest disagreement seen per quantity: absolute and relative to its bound.
 SUMMARY: dict[str, dict] = {}
@@ -106,6 +106,9 @@ def partitioner(rule: str, contact_tags: tuple[int, ...] | dict[str, tuple[int, 
 
     - ``"contact on rank 0"``: every contact cell on rank 0, the other cells on ranks
       1, 2, ... in vertical slabs: those ranks own no contact facet.
+    - ``"bodies apart"``: the bodies below ``y0`` on the last rank, those above on rank
+      0: every contactor facet faces targets of another rank only, and a mesh of
+      bodies on one side has no cell on the other ranks (on 3 ranks, rank 1 owns none).
     - ``"crossed"``: vertical slabs of the contact line's extent, the slab ``k`` of the
       bodies below ``y0`` on rank ``k``, of those above on rank ``n - 1 - k``: each pair
       is split across ranks, most facets facing facets of another rank.
@@ -134,6 +137,8 @@ def partitioner(rule: str, contact_tags: tuple[int, ...] | dict[str, tuple[int, 
                 lo, width = x[:, 0].min(), np.ptp(x[:, 0])
                 slab = np.floor((nparts - 1) * (mid[:, 0] - lo) / width).astype(np.int64)
                 dest = np.where(contact, 0, 1 + np.clip(slab, 0, nparts - 2))
+            elif rule == "bodies apart":
+                dest = np.where(mid[:, 1] < y0, nparts - 1, 0)
             elif rule == "crossed":
                 lo, width = x[on, 0].min(), np.ptp(x[on, 0])
                 slab = np.floor(nparts * (mid[:, 0] - lo) / width).astype(np.int64)
@@ -286,17 +291,16 @@ CASES = [
 ]
 
 
-#: The cases also run on DOLFINx's own partition.
-DEFAULT_PARTITION = {
+#: The cases that also run on DOLFINx's own partition and with the bodies apart.
+ALL_PARTITIONS = {
     Case("readme", 1),
     Case("readme", 2, contactor="lower"),
-    Case("three blocks", 1),
     Case("patch test", 1, contactor="lower"),
     Case("inf-sup model", 2, cell="quadrilateral"),
     Case("hertz", 1),
     Case("hertz", 2, cell="quadrilateral"),
 }
-assert DEFAULT_PARTITION <= set(CASES)
+assert ALL_PARTITIONS <= set(CASES)
 
 
 def _hertz_case(case: Case) -> HertzCase:
@@ -644,6 +648,11 @@ def _check_partition(partition: str, facets: list[dict]) -> list:
     if partition == "contact on rank 0":
         assert counts[:, 1:].sum() == 0 and counts[:, 0].min() > 0, counts
         return everywhere
+    if partition == "bodies apart":
+        # Per pair: the ranks owning contactor facets own no target facet.
+        for pair in counts:
+            assert not np.any((pair[:, 0] > 0) & (pair[:, 1] > 0)), counts
+        return everywhere
     # Crossed: the contact facets on several ranks, and in every pair contactor facets
     # facing a target facet of another rank.
     assert np.count_nonzero(counts.sum(axis=(0, 2))) >= 2, counts
@@ -670,13 +679,13 @@ def summary():
 
 
 def _runs() -> list:
-    """Every case on the forced partitions, a few also on DOLFINx's; on one rank, once."""
+    """Every case on :data:`FORCED`, a few on every partition; on one rank, once."""
     if MPI.COMM_WORLD.size == 1:
         return [pytest.param(c, "default", id=f"{c.id}-default") for c in CASES]
     return [
         pytest.param(c, partition, id=f"{c.id}-{partition}")
         for c in CASES
-        for partition in (PARTITIONS if c in DEFAULT_PARTITION else FORCED)
+        for partition in (PARTITIONS if c in ALL_PARTITIONS else FORCED)
     ]
 
 
