@@ -581,6 +581,8 @@ def _dof_perm(block_perm: np.ndarray, bs: int) -> np.ndarray:
 
 def _note(quantity: str, case: Case, partition: str, diff: float, bound: float) -> None:
     ratio = diff / bound if bound > 0 else (0.0 if diff == 0 else np.inf)
+    largest = SUMMARY.setdefault("largest absolute", {})
+    largest[quantity] = max(largest.get(quantity, 0.0), float(diff))
     best = SUMMARY.get(quantity)
     if best is None or ratio > best["ratio"]:
         SUMMARY[quantity] = {
