@@ -304,14 +304,14 @@ assert ALL_PARTITIONS <= set(CASES)
 
 
 def _hertz_case(case: Case) -> HertzCase:
-    # A small level: about 6 elements across the contact width 2a.
+    # A small level: about 6 (P1) or 4 (P2) elements across the contact width 2a.
     return HertzCase(
         degree=case.degree,
         cell=case.cell,
-        elements_across=6,
+        elements_across=6 if case.degree == 1 else 4,
         a=0.1,
         R2=2.0 if case.degree == 2 else float("inf"),
-        far_size=0.25,
+        far_size=0.5,
     )
 
 
