@@ -17,8 +17,12 @@ Bounds, from outside the code:
   computed from the same facet geometry whatever the partition (the facet coefficients
   are relative to the cell's first node, the targets are gathered in full); the
   partition changes only the order of the sum (the gathered facets' order, the entries
-  sent to their owners). Reordering a sum of :math:`m` terms changes it by at most
-  :math:`2 (m - 1)\,\epsilon \sum |t|`: with :math:`m \le 8` here, :data:`B_FACTOR`
+  sent to their owners). Two orders of a sum of :math:`m` terms :math:`t` differ by at
+  most :math:`(m - 1)\,\epsilon \sum |t|` (recursive summation, unit round-off
+  :math:`\epsilon / 2` each); here :math:`m \le 6` (a multiplier spans 2 contactor
+  facets, each cut into at most 3 sub-segments in these scenes), and :data:`B_FACTOR`
+  :math:`= 16` allows :math:`\sum |t|` up to about :math:`3 \max |\mathbf B|` (P2
+  basis functions change sign, so the terms may cancel): :data:`B_FACTOR`
   :math:`\epsilon \max |\mathbf B|`.
 - The solution :math:`\mathbf x = (\mathbf U, \Lambda)`: two backward-stable solves of the
   same system (up to the round-off of :math:`\mathbf B`), each with a backward error
@@ -28,11 +32,14 @@ Bounds, from outside the code:
   \|\mathbf x\|_\infty` on every component, with :math:`\kappa_\infty` estimated on the
   serial saddle point (Hager's 1-norm estimator; the matrix is symmetric).
 
-Partitions: DOLFINx's graph partitioner, and two forced through a cell partitioner on
-the Gmsh reader (:func:`partitioner`): every cell with a contact facet on rank 0 (the
-other ranks own no contact facet), and the contact line cut in slabs with the contactor's
-slabs on other ranks than the target's (each pair split across ranks). Set
-``S2S_RANKS_JSON=path`` to write the largest disagreements seen.
+Partitions: forced through a cell partitioner on the Gmsh reader (:func:`partitioner`)
+for every case: every cell with a contact facet on rank 0 (the other ranks own no
+contact facet), and the contact line cut in slabs with the contactor's slabs on other
+ranks than the target's (each pair split across ranks); for a few cases also DOLFINx's
+graph partitioner and the bodies on either side of the contact on different ranks (on 3
+ranks, rank 1 then owns no cell of a two-mesh scene). Each forced partition is checked
+to be what it claims. On one rank every case runs once. Set ``S2S_RANKS_JSON=path`` to
+write the largest disagreements seen, the backward errors and the facets each rank owns.
 """
 
 from __future__ import annotations
