@@ -7,7 +7,7 @@ PYTEST  := python3 -m pytest -q -p no:cacheprovider
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
-.PHONY: demo bench bench-smoke test check lint package test-serial test-mpi smoke env clean
+.PHONY: demo bench bench-smoke test check lint package test-serial test-mpi test-mpi3 smoke env clean
 
 ## demo: the patch-test, inf-sup, Hertz, Fig. 16 and speed-accuracy studies on 1 and 2 ranks -> results/
 demo:
@@ -65,7 +65,7 @@ test:
 	    echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
 	fi
 
-check: lint package test-serial test-mpi smoke
+check: lint package test-serial test-mpi test-mpi3 smoke
 
 lint:
 	@echo "== [$(SUITE)] lint"
@@ -89,6 +89,11 @@ test-serial:
 test-mpi:
 	@echo "== [$(SUITE)] tests, 2 ranks"
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 -m mpi4py -m pytest -q -p no:cacheprovider tests
+
+# Parallel consistency on 3 ranks (more processes than cores: --oversubscribe).
+test-mpi3:
+	@echo "== [$(SUITE)] parallel consistency, 3 ranks"
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py
 
 smoke:
 	@echo "== [$(SUITE)] demos, smoke run"

@@ -23,8 +23,22 @@ DOLFINX_VERSION: tuple[int, int] = tuple(  # type: ignore[assignment]
 )
 
 
-def gmsh_model_to_mesh(model: typing.Any, comm: typing.Any, rank: int, gdim: int) -> tuple:
+def gmsh_model_to_mesh(
+    model: typing.Any,
+    comm: typing.Any,
+    rank: int,
+    gdim: int,
+    partitioner: typing.Callable | None = None,
+) -> tuple:
     """Distribute a Gmsh model held on ``rank`` over ``comm``.
+
+    Args:
+        model: The Gmsh model (``gmsh.model``), built on ``rank``.
+        comm: Communicator to distribute the mesh over.
+        rank: Rank that holds the model.
+        gdim: Geometric dimension.
+        partitioner: Cell partitioner of :func:`dolfinx.mesh.create_mesh`, called as
+            ``partitioner(comm, nparts, cell_types, cells)`` (None: DOLFINx's default).
 
     Returns:
         ``(mesh, cell_tags, facet_tags)``, whichever DOLFINx reader is present
@@ -44,11 +58,11 @@ def gmsh_model_to_mesh(model: typing.Any, comm: typing.Any, rank: int, gdim: int
     if DOLFINX_VERSION >= (0, 10):
         from dolfinx.io import gmsh as _gmsh
 
-        data = _gmsh.model_to_mesh(model, comm, rank, gdim=gdim)
+        data = _gmsh.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=partitioner)
         return data.mesh, data.cell_tags, data.facet_tags
     from dolfinx.io import gmshio as _gmshio
 
-    return _gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
+    return _gmshio.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=partitioner)
 
 
 def _mixed_cell_types(model: typing.Any) -> str:

@@ -34,7 +34,12 @@ __all__ = [
 
 
 def model_to_mesh(
-    model: typing.Any, comm: MPI.Comm, rank: int = 0, gdim: int = 2
+    model: typing.Any,
+    comm: MPI.Comm,
+    rank: int = 0,
+    gdim: int = 2,
+    *,
+    partitioner: typing.Callable | None = None,
 ) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
     """DOLFINx's Gmsh reader, whatever its version: ``(mesh, cell_tags, facet_tags)``.
 
@@ -43,8 +48,13 @@ def model_to_mesh(
         comm: Communicator to distribute the mesh over.
         rank: Rank that holds the model.
         gdim: Geometric dimension.
+        partitioner: Cell partitioner of :func:`dolfinx.mesh.create_mesh`, called as
+            ``partitioner(comm, nparts, cell_types, cells)`` on every process with the
+            cells it holds (vertex indices into the model's nodes, Gmsh tag minus one);
+            it returns each cell's destination rank as an adjacency list. None:
+            DOLFINx's graph partitioner.
     """
-    return gmsh_model_to_mesh(model, comm, rank, gdim)
+    return gmsh_model_to_mesh(model, comm, rank, gdim, partitioner)
 
 
 #: Facet tags of a rectangular block.
@@ -122,6 +132,7 @@ def _block(
     cell: str,
     degree: int,
     msh_dir: Path | None,
+    partitioner: typing.Callable | None = None,
 ) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
     """Mesh the rectangle ``origin + [0, w] x [0, h]`` with ``divisions`` along x and y."""
     gmsh.model.add(name)
@@ -161,7 +172,7 @@ def _block(
         if msh_dir is not None:
             msh_dir.mkdir(parents=True, exist_ok=True)
             gmsh.write(str(msh_dir / f"{name}.msh"))
-    mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, 2, partitioner)
     gmsh.model.remove()
     mesh.name = name
     return mesh, cell_tags, facet_tags
@@ -178,6 +189,7 @@ def patch_test(
     height: float = 0.5,
     layers: tuple[int, int] | None = None,
     msh_dir: str | Path | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> PatchTestScene:
     """Two blocks pressed together along :math:`y = H` (Figs. 4 and 6 of the paper).
 
@@ -194,6 +206,8 @@ def patch_test(
             as many as keep the cells square.
         msh_dir: If given, rank 0 writes the Gmsh models there as ``lower.msh``
             and ``upper.msh``.
+        partitioner: Cell partitioner of both meshes (see :func:`model_to_mesh`); None:
+            DOLFINx's.
 
     Returns:
         The scene. Facet tags: bottom 1, right 2, top 3, left 4.
@@ -219,6 +233,7 @@ def patch_test(
             cell,
             geometry_degree,
             out,
+            partitioner,
         )
         upper = _block(
             gmsh,
@@ -230,6 +245,7 @@ def patch_test(
             cell,
             geometry_degree,
             out,
+            partitioner,
         )
     return PatchTestScene(
         Body("lower", *lower, tags=dict(tags), contact=TOP),
@@ -250,6 +266,7 @@ def inf_sup_model(
     width: float = 1.0,
     height: float = 0.5,
     msh_dir: str | Path | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> PatchTestScene:
     """The inf-sup model of Fig. 2: two blocks meshed independently, overlapping by ``-gap``.
 
@@ -267,6 +284,7 @@ def inf_sup_model(
         width: Width of both blocks.
         height: Height of each block.
         msh_dir: If given, rank 0 writes the Gmsh models there.
+        partitioner: Cell partitioner of both meshes (see :func:`model_to_mesh`).
     """
     return patch_test(
         comm,
@@ -277,4 +295,5 @@ def inf_sup_model(
         width=width,
         height=height,
         msh_dir=msh_dir,
+        partitioner=partitioner,
     )

@@ -289,6 +289,7 @@ def hertz(
     edge_nodes: bool = True,
     far_size: float | None = None,
     rank: int = 0,
+    partitioner: typing.Callable | None = None,
 ) -> HertzScene:
     r"""The Hertz scene: a half cylinder on a block, or on a second half cylinder.
 
@@ -314,6 +315,8 @@ def hertz(
             :math:`R_1, R_2, W, D` over 8). A convergence study of global quantities
             (the strain energy) refines it with ``h``.
         rank: Rank that builds the Gmsh model.
+        partitioner: Cell partitioner of the mesh (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene; facet tags in :data:`TAGS` (``"lower_sides"`` marks no facet for a
@@ -374,7 +377,9 @@ def hertz(
             _model(
                 gmsh, float(R), R2, float(a), h, W, D, cell, geometry_degree, edge_nodes, far_size
             )
-        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, rank, gdim=2)
+        mesh, cell_tags, facet_tags = model_to_mesh(
+            gmsh.model, comm, rank, gdim=2, partitioner=partitioner
+        )
         gmsh.model.remove()
     mesh.name = "hertz"
     return HertzScene(

@@ -248,7 +248,11 @@ def _snap(gmsh: typing.Any, block: Block, lines: dict[str, int], geometry_degree
 
 
 def _mesh_blocks(
-    comm: MPI.Comm, blocks: list[Block], cell: str, geometry_degree: int
+    comm: MPI.Comm,
+    blocks: list[Block],
+    cell: str,
+    geometry_degree: int,
+    partitioner: typing.Callable | None = None,
 ) -> dict[str, MeshPart]:
     """Mesh the blocks on rank 0, one Gmsh model per mesh name, and distribute them."""
     names = list(dict.fromkeys(b.mesh for b in blocks))
@@ -259,7 +263,7 @@ def _mesh_blocks(
             gmsh.model.add(name)
             if comm.rank == 0:
                 _model_blocks(gmsh, mine, cell, geometry_degree)
-            mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, gdim=2)
+            mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, 2, partitioner)
             gmsh.model.remove()
             mesh.name = name
             parts[name] = MeshPart(name, mesh, cell_tags, facet_tags, tuple(b.name for b in mine))
@@ -277,6 +281,7 @@ def _two_blocks(
     height: float,
     layers: tuple[int, int] | None,
     arrangement: str,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     _check(cell, geometry_degree, arrangement)
     one = arrangement == "one mesh"
@@ -305,7 +310,7 @@ def _two_blocks(
     return BlocksScene(
         name,
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower", "left"), ("upper", "left")),
         fixed_y=(("lower", "bottom"),),
         loaded=(("upper", "top"),),
@@ -321,6 +326,7 @@ def two_blocks_one_mesh(
     width: float = 1.0,
     height: float = 0.5,
     layers: tuple[int, int] | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test of Figs. 4 and 6 with both blocks in ONE mesh.
 
@@ -337,6 +343,8 @@ def two_blocks_one_mesh(
         width: :math:`W`.
         height: :math:`H`.
         layers: Elements across the height of each block (default: about square cells).
+        partitioner: Cell partitioner of the mesh (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene, with its one mesh in ``parts["blocks"]``. Cells: lower 1, upper 2.
@@ -344,7 +352,17 @@ def two_blocks_one_mesh(
         top 23, left 24.
     """
     return _two_blocks(
-        comm, "two blocks", elements, 0.0, cell, geometry_degree, width, height, layers, "one mesh"
+        comm,
+        "two blocks",
+        elements,
+        0.0,
+        cell,
+        geometry_degree,
+        width,
+        height,
+        layers,
+        "one mesh",
+        partitioner,
     )
 
 
@@ -359,6 +377,7 @@ def overhang(
     width: float = 1.0,
     height: float = 0.5,
     layers: tuple[int, int] | None = None,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test with the upper block shifted by ``shift``: it overhangs the lower one.
 
@@ -378,13 +397,25 @@ def overhang(
         width: :math:`W` of both blocks.
         height: :math:`H` of both blocks.
         layers: Elements across the height of each block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene; tags as in :func:`two_blocks_one_mesh`, meshes ``"blocks"`` (one
         mesh) or ``"lower"`` and ``"upper"``.
     """
     return _two_blocks(
-        comm, "overhang", elements, shift, cell, geometry_degree, width, height, layers, arrangement
+        comm,
+        "overhang",
+        elements,
+        shift,
+        cell,
+        geometry_degree,
+        width,
+        height,
+        layers,
+        arrangement,
+        partitioner,
     )
 
 
@@ -397,6 +428,7 @@ def three_blocks(
     cell: str = "triangle",
     geometry_degree: int = 1,
     height: float = 0.5,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""The patch test of Taylor and Papadopoulos (ref. [17], Fig. 3 of the paper).
 
@@ -419,6 +451,8 @@ def three_blocks(
         cell: ``"triangle"`` or ``"quadrilateral"``.
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower_left"`` (cells 1, facets 10, 12, 13, 14),
@@ -440,7 +474,7 @@ def three_blocks(
     return BlocksScene(
         "three blocks",
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower_left", "right"), ("lower_right", "left"), ("upper", "left")),
         fixed_y=(("lower_left", "bottom"), ("lower_right", "bottom")),
         loaded=(("upper", "top"),),
@@ -456,6 +490,7 @@ def two_on_one(
     cell: str = "triangle",
     geometry_degree: int = 1,
     height: float = 0.5,
+    partitioner: typing.Callable | None = None,
 ) -> BlocksScene:
     r"""Two upper blocks side by side resting on one lower block (Fig. 3 upside down).
 
@@ -475,6 +510,8 @@ def two_on_one(
         cell: ``"triangle"`` or ``"quadrilateral"``.
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
+        partitioner: Cell partitioner of the meshes (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower"`` (cells 1, facets 10, 12, 13, 14),
@@ -497,7 +534,7 @@ def two_on_one(
     return BlocksScene(
         "two on one",
         {b.name: b for b in blocks},
-        _mesh_blocks(comm, blocks, cell, geometry_degree),
+        _mesh_blocks(comm, blocks, cell, geometry_degree, partitioner),
         fixed_x=(("lower", "left"), ("upper_left", "right"), ("upper_right", "left")),
         fixed_y=(("lower", "bottom"),),
         loaded=(("upper_left", "top"), ("upper_right", "top")),

@@ -600,7 +600,10 @@ class UnilateralContactProblem(LinearContactProblem):
         lower.set(PETSc.NINFINITY)
         upper.set(PETSc.INFINITY)
         for is_, c in zip(lambda_sets, self.scales, strict=True):
-            for vec, values in ((S, -c.array_r), (lower, 0.0)):
+            # c = 0 at the inactive multipliers (uncovered, duplicates), whose rows of A
+            # read lambda_k = 0: scaled by -1, not 0, which left the Jacobian singular.
+            scale = np.where(c.array_r != 0.0, -c.array_r, -1.0)
+            for vec, values in ((S, scale), (lower, 0.0)):
                 sub = vec.getSubVector(is_)
                 sub.array[:] = values
                 vec.restoreSubVector(is_, sub)

@@ -234,3 +234,39 @@ def test_load_steps_start_from_previous_active_set():
     assert len(history.steps[-1].iterations) == 1
     assert _owned_max(u1 - u2) <= 1e-10 * _owned_max(u1)
     assert _owned_max(l1 - l2) <= 1e-10 * _owned_max(l1)
+
+
+def test_snes_vi_with_uncovered_multipliers():
+    """SNES VI on a contactor partly facing no target agrees with the active-set loop.
+
+    Hertz on two quadratic cylinders: the ends of the contactor arc are beyond the search
+    radius of the lower arc, so their multipliers carry no constraint (uncovered, held at
+    zero, :math:`c_k = 0`). SNES VI scaled their rows of the saddle point by :math:`-c_k
+    = 0`: a singular Jacobian, DIVERGED_LINEAR_SOLVE at its first step. The reference is
+    the active-set loop, an independent algorithm for the same complementarity problem:
+    the same active set, and the same saddle point solved at the end.
+    """
+    from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
+
+    case = HertzCase(
+        degree=2, cell="quadrilateral", elements_across=6, a=0.1, R2=2.0, far_size=0.25
+    )
+    model = hertz_model(case)
+    out = {}
+    for algorithm in EXACT:
+        with UnilateralContactProblem(
+            model.a,
+            model.L,
+            [model.pair()],
+            model.bcs,
+            petsc_options_prefix=f"uni_uncovered_{algorithm}_",
+            algorithm=algorithm,
+        ) as problem:
+            (u,), (lam,) = problem.solve()
+            assert problem.operators[0].uncovered.size > 0  # the premise, on every rank
+            out[algorithm] = [f.x.array.copy() for f in (u, lam, problem.active[0])]
+    (u0, lam0, active0), (u1, lam1, active1) = out["active-set"], out["snes-vi"]
+    assert _owned_max(active1 - active0) == 0.0
+    assert 0 < _owned_max(lam0)
+    assert _owned_max(lam1 - lam0) <= BOUND * _owned_max(lam0)
+    assert _owned_max(u1 - u0) <= BOUND * _owned_max(u0)

@@ -131,8 +131,19 @@ class HertzModel:
         )
 
 
-def hertz_model(case: HertzCase, comm: MPI.Comm = MPI.COMM_WORLD) -> HertzModel:
-    """Mesh the scene of ``case`` and set up its forms and supports."""
+def hertz_model(
+    case: HertzCase,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    partitioner: Callable | None = None,
+) -> HertzModel:
+    """Mesh the scene of ``case`` and set up its forms and supports.
+
+    Args:
+        case: The case.
+        comm: Communicator of the mesh.
+        partitioner: Cell partitioner of the mesh (see
+            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+    """
     scene = hertz(
         comm,
         R=case.R1,
@@ -144,6 +155,7 @@ def hertz_model(case: HertzCase, comm: MPI.Comm = MPI.COMM_WORLD) -> HertzModel:
         lower_radius=case.R2,
         edge_nodes=case.edge_nodes,
         far_size=case.far_size,
+        partitioner=partitioner,
     )
     mesh = scene.mesh
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", case.degree, (2,)))
