@@ -33,7 +33,7 @@ from dolfinx_contact_s2s.studies.fuzz import (
 comm = MPI.COMM_WORLD
 
 FUZZ_SETTINGS = settings(
-    max_examples=40,
+    max_examples=30,
     derandomize=True,
     database=None,
     deadline=None,
