@@ -64,9 +64,11 @@ UPPER_TAGS = (20, 22, 23, 24)
 #: Width of both blocks and the applied pressure.
 WIDTH, PRESSURE = 1.0, 1.0
 
-#: Bound on the multiplier's round-off bound itself: far below the unit pressure, so
-#: that the comparison with it is not vacuous.
-BOUND_CEILING = 1e-5
+#: Ceiling on the multiplier's round-off bound itself, relative to the pressure: the
+#: comparison must still tell a pressure error of 1% (node-to-segment's are 10% and
+#: more). The bound is usually far lower (1e-13 to 1e-8); it reaches 1e-3 where the
+#: direct solve's backward error is itself large (1e-11 at a contrast of 1e5).
+BOUND_CEILING = 1e-2
 
 
 @dataclass(frozen=True)
@@ -184,6 +186,7 @@ class CaseResult:
         displacement_error: Per space, :math:`\max |u - u_{exact}|`.
         displacement_bound: Per space, the round-off bound on it.
         condition: Condition estimate of the equilibrated saddle point.
+        backward_error: The solve's componentwise backward error.
         unknowns: Size of the saddle point.
     """
 
@@ -192,6 +195,7 @@ class CaseResult:
     displacement_error: list[float]
     displacement_bound: list[float]
     condition: float
+    backward_error: float
     unknowns: int
 
     @property
@@ -204,7 +208,7 @@ class CaseResult:
     @property
     def passed(self) -> bool:
         """Every error within its bound, and the pressure's bound not vacuous."""
-        return self.ratio <= 1.0 and self.pressure_bound < BOUND_CEILING
+        return self.ratio <= 1.0 and self.pressure_bound < BOUND_CEILING * PRESSURE
 
 
 def _breakpoints(segments: tuple[Segment, ...]) -> npt.NDArray[np.floating]:
@@ -446,6 +450,7 @@ def check_case(
         [float(e) for e in errors[1:]],
         [float(b) for b in bound.displacement],
         float(bound.condition),
+        float(bound.backward_error),
         int(unknowns),
     )
 
