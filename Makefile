@@ -58,11 +58,14 @@ FUZZ_CASES     ?= 1500
 FUZZ_CASES_MPI ?= 500
 FUZZ_SEED      ?= 0
 FUZZ_TIMEOUT   := timeout -k 30 7200
+# Both legs run even if the first finds failures; the target fails if either did.
 fuzz:
+	@status=0; \
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(FUZZ_TIMEOUT) python3 demos/fuzz_patch_test.py \
-	    --cases $(FUZZ_CASES) --seed $(FUZZ_SEED)
+	    --cases $(FUZZ_CASES) --seed $(FUZZ_SEED) || status=1; \
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(FUZZ_TIMEOUT) $(MPIRUN) python3 -m mpi4py demos/fuzz_patch_test.py \
-	    --cases $(FUZZ_CASES_MPI) --seed $(FUZZ_SEED)
+	    --cases $(FUZZ_CASES_MPI) --seed $(FUZZ_SEED) || status=1; \
+	exit $$status
 
 ## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie then sid
 test:
