@@ -218,7 +218,8 @@ if comm.rank == 0:
     args.out.mkdir(parents=True, exist_ok=True)
     path = args.out / "fuzz.json"
     merged = json.loads(path.read_text()) if path.exists() else {}
-    merged[f"np{comm.size}"] = record
+    # One record per rank count and DOLFINx version (make fuzz SUITE=sid adds its own).
+    merged[f"np{comm.size}-dolfinx{dolfinx.__version__}"] = record
     path.write_text(json.dumps(merged, indent=1))
     lines = [
         "## Randomized patch tests (`make fuzz`)",
