@@ -253,7 +253,8 @@ if comm.rank == 0:
     for key in sorted(merged):
         r = merged[key]
         lines.append(
-            f"- {r['ranks']} rank(s): " + ", ".join(f"{k} {v}" for k, v in r["mix"].items())
+            f"- {r['ranks']} rank(s), DOLFINx {r['dolfinx']}: "
+            + ", ".join(f"{k} {v}" for k, v in r["mix"].items())
         )
     write_section(args.out / "report.md", "fuzz", lines)
 log(
