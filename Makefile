@@ -7,7 +7,7 @@ PYTEST  := python3 -m pytest -q -p no:cacheprovider
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
-.PHONY: demo bench bench-smoke test check lint package test-serial test-mpi test-mpi3 smoke env clean
+.PHONY: demo bench bench-smoke fuzz test check lint package test-serial test-mpi test-mpi3 smoke env clean
 
 ## demo: the patch-test, inf-sup, Hertz, Fig. 16 and speed-accuracy studies on 1 and 2 ranks -> results/
 demo:
@@ -51,6 +51,21 @@ bench-smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) python3 bench/bench_ranks.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_report.py --out build/bench-smoke-$(SUITE)/bench \
 	    --require $(BENCH_REQUIRED) p4_infsup_np2
+
+## fuzz: randomized patch tests, FUZZ_CASES on 1 rank and FUZZ_CASES_MPI on 2 ranks
+## -> results/fuzz.json and the fuzz section of results/report.md (failures with a command)
+FUZZ_CASES     ?= 1500
+FUZZ_CASES_MPI ?= 500
+FUZZ_SEED      ?= 0
+FUZZ_TIMEOUT   := timeout -k 30 7200
+# Both legs run even if the first finds failures; the target fails if either did.
+fuzz:
+	@status=0; \
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(FUZZ_TIMEOUT) python3 demos/fuzz_patch_test.py \
+	    --cases $(FUZZ_CASES) --seed $(FUZZ_SEED) || status=1; \
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(FUZZ_TIMEOUT) $(MPIRUN) python3 -m mpi4py demos/fuzz_patch_test.py \
+	    --cases $(FUZZ_CASES_MPI) --seed $(FUZZ_SEED) || status=1; \
+	exit $$status
 
 ## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie then sid
 test:

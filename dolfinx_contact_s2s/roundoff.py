@@ -16,11 +16,14 @@ so that, to first order, every unknown is within
     |\delta x_i| \le \omega\,\bigl(|\mathbf A^{-1}|\,(|\mathbf A||\hat{\mathbf x}| +
     |\mathbf b|)\bigr)_i
 
-of the exact solution of Eq. (18). The largest of these over the unknowns of one field
-(a space, a pair's multiplier) is :math:`\|\mathbf P\,|\mathbf A^{-1}|\,\mathrm{diag}(
-\mathbf g)\|_\infty` with :math:`\mathbf P` the field's rows: a 1-norm of a linear
-operator, estimated by Higham's block estimator
-(:func:`scipy.sparse.linalg.onenormest`) from solves with the problem's own
+of the exact solution of Eq. (18). On a row where :math:`(|\mathbf A||\hat{\mathbf x}| +
+|\mathbf b|)_i` is itself round-off (its unknowns vanish, as :math:`u_x` at
+:math:`\nu = 0`), :math:`\|\mathbf A_{i:}\|_\infty\|\hat{\mathbf x}\|_\infty` is added
+to it (Arioli, Demmel and Duff, 1989), or :math:`\omega` would be of order 1. The
+largest of these over the unknowns of one field (a space, a pair's multiplier) is
+:math:`\|\mathbf P\,|\mathbf A^{-1}|\,\mathrm{diag}(\mathbf g)\|_\infty` with
+:math:`\mathbf P` the field's rows: a 1-norm of a linear operator, estimated by
+Higham's block estimator (:func:`scipy.sparse.linalg.onenormest`) from solves with the problem's own
 factorization. The estimator can underestimate (rarely by more than a factor 3, hence
 :data:`SAFETY`), and the residual's own round-off sets a floor :math:`\omega \ge
 \epsilon`. Material contrast, element-size ratio, the scale of the scene and near
@@ -167,10 +170,27 @@ def round_off_bound(problem: LinearContactProblem, safety: float = SAFETY) -> Ro
     absolute = _absolute(A)
     g = A.createVecLeft()
     ax = A.createVecLeft()
-    absolute.mult(x, ax)
-    g.array[:] = np.abs(ax.array_r) + np.abs(b.array_r)
+    # |A||x|, not |A x| or |A| x: with cancellation either can vanish on a row whose
+    # residual is round-off, and omega would be 1.
+    magnitude = x.copy()
+    magnitude.abs()
+    absolute.mult(magnitude, ax)
+    magnitude_r = magnitude.array_r.copy()
+    magnitude.destroy()
+    g.array[:] = ax.array_r + np.abs(b.array_r)
     A.mult(x, ax)
     r = np.abs(b.array_r - ax.array_r)
+    # A row whose (|A||x| + |b|)_i is itself round-off (its unknowns are exactly zero,
+    # e.g. u_x at nu = 0) gets the normwise ||A_i|| ||x|| (Arioli, Demmel & Duff 1989),
+    # or its residual's round-off alone would make omega of order 1.
+    ones = A.createVecRight()
+    ones.set(1.0)
+    absolute.mult(ones, ax)
+    ones.destroy()
+    reach = ax.array_r * comm.allreduce(float(np.max(magnitude_r, initial=0.0)), op=MPI.MAX)
+    tau = 1000 * A.getSize()[0] * eps * (reach + np.abs(b.array_r))
+    small = (g.array_r <= tau) & (r > 0)
+    g.array[small] += reach[small]
     local = r / np.where(g.array_r > 0, g.array_r, 1.0)
     omega = max(eps, comm.allreduce(float(np.max(local, initial=0.0)), op=MPI.MAX))
     absolute.destroy()
