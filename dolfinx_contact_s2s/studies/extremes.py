@@ -45,6 +45,7 @@ import dolfinx.fem
 import numpy as np
 import ufl
 
+from dolfinx_contact_s2s._compat import geometry_dofmap
 from dolfinx_contact_s2s.coupling import contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.roundoff import round_off_bound
@@ -302,11 +303,8 @@ def build(
 
     # The user moves the upper block's nodes: the gap, the near-coincident nodes.
     x = mesh.geometry.x
-    dofmap = mesh.geometry.dofmaps[0] if hasattr(mesh.geometry, "dofmaps") else None
-    if dofmap is None:
-        dofmap = mesh.geometry.dofmap
     upper = np.zeros(x.shape[0], dtype=bool)
-    upper[np.unique(dofmap[cells.find(2)])] = True
+    upper[np.unique(geometry_dofmap(mesh)[cells.find(2)])] = True
     if point.perturb:
         h = 1.0 / elements[1]
         on = upper & np.isclose(x[:, 1], HEIGHT, rtol=0, atol=1e-12)
@@ -320,9 +318,9 @@ def build(
     DG = dolfinx.fem.functionspace(mesh, ("DG", 0))
     E, nu = dolfinx.fem.Function(DG), dolfinx.fem.Function(DG)
     for body in (0, 1):
-        body_cells = cells.find(body + 1)
-        E.x.array[body_cells] = point.E[body]
-        nu.x.array[body_cells] = point.nu[body]
+        body_dofs = DG.dofmap.list[cells.find(body + 1)].reshape(-1)
+        E.x.array[body_dofs] = point.E[body]
+        nu.x.array[body_dofs] = point.nu[body]
     E.x.scatter_forward()
     nu.x.scatter_forward()
     mu = E / (2 * (1 + nu))
