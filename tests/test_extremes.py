@@ -167,3 +167,46 @@ def test_contrast_1e6_trusted_by_its_backward_error(monkeypatch, degree):
     assert backward == pytest.approx(dense, rel=0.5)
     assert backward <= BACKWARD_TOLERANCE
     assert error <= bound.multiplier[0]
+
+
+@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)
+def test_kernels_do_not_see_a_translation(kernel_backend):
+    """Projection, intersection and clipping give the same parameters for a pair of
+    curved facets and the same pair translated by (1e6, 1e6).
+
+    Node positions and points on a grid of 2^-20 are exact after the translation, so any
+    difference is round-off of the kernels' own arithmetic at the translated magnitude
+    (about 1e-10 / h before the kernels worked relative to each facet's first point).
+    """
+    rng = np.random.default_rng(12)
+    grid = 2.0**-20
+    F = 40
+    c = np.zeros((F, 3, 2))
+    c[:, 0] = np.round(rng.uniform(0, 1, (F, 2)) / grid) * grid
+    c[:, 1] = np.round(rng.uniform(0.05, 0.1, (F, 2)) / grid) * grid
+    c[:, 2] = np.round(rng.uniform(-0.01, 0.01, (F, 2)) / grid) * grid
+    rows = np.arange(F, dtype=np.int32)
+    offsets = np.round(rng.uniform(-0.05, 0.15, (F, 2)) / grid) * grid
+    points = c[:, 0] + offsets
+    directions = rng.normal(size=(F, 2))
+    # Target facets: the contactor facets moved a little along their normals.
+    t = c.copy()
+    t[:, 0] += np.round(0.01 * np.stack([c[:, 1, 1], -c[:, 1, 0]], axis=1) / grid) * grid
+    t[:, 1:] *= -1.0  # running the other way
+    t[:, 0] -= t[:, 1] + t[:, 2]
+    t[:, 0] = np.round(t[:, 0] / grid) * grid
+    shift = np.array([1e6, 1e6])
+    results = []
+    for s in (np.zeros(2), shift):
+        cs, ts = c.copy(), t.copy()
+        cs[:, 0] += s
+        ts[:, 0] += s
+        xi = kernel_backend.project(cs, rows, np.ascontiguousarray(points + s))
+        eta = kernel_backend.intersect(cs, rows, np.ascontiguousarray(points + s), directions)
+        lo, hi, keep = kernel_backend.clip_segments(
+            cs, np.ones(F), ts, np.ones(F), rows, rows, 0.5, 1e-12
+        )
+        results.append((xi, eta, lo, hi, keep))
+    for a, b in zip(*results, strict=True):
+        np.testing.assert_allclose(b, a, rtol=0, atol=1e-13)
+    assert np.count_nonzero(results[0][4]) > F // 2  # the clipping keeps pieces
