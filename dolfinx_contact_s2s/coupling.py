@@ -307,11 +307,20 @@ class ContactPair:
         xi = np.ascontiguousarray(g.xi.reshape(-1))
 
         kernels = cs.backend
-        x_c, _ = kernels.evaluate(C.coefficients, rows_c, xi)
         normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
-        eta = kernels.intersect(T.coefficients, rows_t, x_c, normals)
+        # Points, target points and gaps relative to the contactor facet's first point:
+        # differences of numbers of the size of the facets, so that a scene far from the
+        # origin loses nothing but the round-off of its own node coordinates.
+        local = np.arange(rows_c.size, dtype=np.int32)
+        c_local = C.coefficients[rows_c]
+        origin = c_local[:, 0].copy()
+        c_local[:, 0] = 0.0
+        t_local = T.coefficients[rows_t]
+        t_local[:, 0] -= origin
+        x_c, _ = kernels.evaluate(c_local, local, xi)
+        eta = kernels.intersect(t_local, local, x_c, normals)
         np.clip(eta, 0.0, 1.0, out=eta)
-        x_t, _ = kernels.evaluate(T.coefficients, rows_t, eta)
+        x_t, _ = kernels.evaluate(t_local, local, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
         s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)

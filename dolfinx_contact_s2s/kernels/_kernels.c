@@ -59,6 +59,20 @@ static void s2s_point(const double *c, int M, double xi, double *x, double *dx, 
   }
 }
 
+/* x(xi) - c[0] of facet c, without forming x(xi): relative to the facet's first point,
+ * so that a facet far from the origin keeps the digits of its own size. */
+static void s2s_offset(const double *c, int M, double xi, double *r)
+{
+  double r0 = 0.0, r1 = 0.0;
+  for (int m = M - 1; m >= 1; --m)
+  {
+    r0 = (r0 + c[2 * m]) * xi;
+    r1 = (r1 + c[2 * m + 1]) * xi;
+  }
+  r[0] = r0;
+  r[1] = r1;
+}
+
 /* Whether facet c is straight: every coefficient beyond the linear one is exactly 0. */
 static int s2s_straight(const double *c, int M)
 {
@@ -158,20 +172,22 @@ void s2s_outward_normals(const double *c, int M, const double *orientation, cons
     s2s_normal(c + (int64_t)rows[p] * M * 2, M, orientation[rows[p]], xi[p], out + 2 * p);
 }
 
-/* Closest point of y on facet c: closed form if straight, else Newton from 1/2. */
-static double s2s_project_one(const double *c, int M, const double *y, int iterations,
-                              double tol)
+/* Closest point on facet c of the point c[0] + (y0, y1), given relative to the facet's
+ * first point: closed form if straight, else Newton from 1/2. */
+static double s2s_project_local(const double *c, int M, double y0, double y1, int iterations,
+                                double tol)
 {
   if (s2s_straight(c, M))
   {
     double t0 = M > 1 ? c[2] : 0.0, t1 = M > 1 ? c[3] : 0.0;
-    return ((y[0] - c[0]) * t0 + (y[1] - c[1]) * t1) / (t0 * t0 + t1 * t1);
+    return (y0 * t0 + y1 * t1) / (t0 * t0 + t1 * t1);
   }
-  double xi = 0.5, x[2], dx[2], ddx[2];
+  double xi = 0.5, x[2], dx[2], ddx[2], r[2];
   for (int it = 0; it < iterations; ++it)
   {
     s2s_point(c, M, xi, x, dx, ddx);
-    double r0 = x[0] - y[0], r1 = x[1] - y[1];
+    s2s_offset(c, M, xi, r);
+    double r0 = r[0] - y0, r1 = r[1] - y1;
     double f = r0 * dx[0] + r1 * dx[1];
     double df = (dx[0] * dx[0] + dx[1] * dx[1]) + (r0 * ddx[0] + r1 * ddx[1]);
     double step = f / df;
@@ -180,6 +196,13 @@ static double s2s_project_one(const double *c, int M, const double *y, int itera
       break;
   }
   return xi;
+}
+
+/* Closest point of y on facet c, relative to the facet's first point. */
+static double s2s_project_one(const double *c, int M, const double *y, int iterations,
+                              double tol)
+{
+  return s2s_project_local(c, M, y[0] - c[0], y[1] - c[1], iterations, tol);
 }
 
 void s2s_project(const double *c, int M, const int32_t *rows, const double *points, int P,
@@ -203,11 +226,14 @@ void s2s_intersect(const double *c, int M, const int32_t *rows, const double *or
       eta[p] = -((cf[0] - o[0]) * q0 + (cf[1] - o[1]) * q1) / (t0 * q0 + t1 * q1);
       continue;
     }
-    double e = 0.5, x[2], dx[2];
+    /* Newton relative to the facet's first point cf[0]. */
+    double o0 = o[0] - cf[0], o1 = o[1] - cf[1];
+    double e = 0.5, x[2], dx[2], r[2];
     for (int it = 0; it < iterations; ++it)
     {
       s2s_point(cf, M, e, x, dx, 0);
-      double f = (x[0] - o[0]) * q0 + (x[1] - o[1]) * q1;
+      s2s_offset(cf, M, e, r);
+      double f = (r[0] - o0) * q0 + (r[1] - o1) * q1;
       double df = dx[0] * q0 + dx[1] * q1;
       double step = f / df;
       e -= step;
@@ -273,19 +299,19 @@ void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation, co
     keep[p] = 0;
     if (!(n_c[0] * n_t[0] + n_c[1] * n_t[1] < 0.0))
       continue;
-    double xa[2], xb[2], xm[2], xt[2];
-    s2s_point(t, Mt, 0.0, xa, 0, 0);
-    s2s_point(t, Mt, 1.0, xb, 0, 0);
-    double a = s2s_project_one(c, Mc, xa, iterations, tol);
-    double b = s2s_project_one(c, Mc, xb, iterations, tol);
+    /* Everything relative to the contactor's first point (the facets' own digits). */
+    double s0 = t[0] - c[0], s1 = t[1] - c[1], rb[2], rm[2], rt[2];
+    s2s_offset(t, Mt, 1.0, rb);
+    double a = s2s_project_local(c, Mc, s0, s1, iterations, tol);
+    double b = s2s_project_local(c, Mc, s0 + rb[0], s1 + rb[1], iterations, tol);
     double l = fmin(a, b), h = fmax(a, b);
     l = fmin(fmax(l, 0.0), 1.0);
     h = fmin(fmax(h, 0.0), 1.0);
     lo[p] = l;
     hi[p] = h;
-    s2s_point(c, Mc, 0.5 * (l + h), xm, 0, 0);
-    s2s_point(t, Mt, 0.5, xt, 0, 0);
-    double d = (xt[0] - xm[0]) * n_c[0] + (xt[1] - xm[1]) * n_c[1];
+    s2s_offset(c, Mc, 0.5 * (l + h), rm);
+    s2s_offset(t, Mt, 0.5, rt);
+    double d = (s0 + rt[0] - rm[0]) * n_c[0] + (s1 + rt[1] - rm[1]) * n_c[1];
     /* Pieces no longer than the round-off of the projections are slivers. */
     double c1[2];
     s2s_point(c, Mc, 1.0, c1, 0, 0);

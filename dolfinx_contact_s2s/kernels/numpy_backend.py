@@ -12,6 +12,12 @@ Newton solves then need no tabulation at all, which is what a compiled backend n
 
 Every function takes C-contiguous ``float64`` arrays and ``int32`` row indices and
 returns new arrays; ``rows`` selects one facet per point.
+
+Projections, intersections and clipping work relative to a local origin, the first
+point :math:`c_0 = x(0)` of the facet a point is projected on (:func:`_local`): the
+Newton residuals :math:`x(\xi) - p` are then differences of numbers of the size of the
+facet, not of the scene's coordinates, and a scene translated far from the origin
+gives the same parameters up to the round-off of the translation itself.
 """
 
 from __future__ import annotations
@@ -169,6 +175,22 @@ def outward_normals(
     return n / np.linalg.norm(n, axis=1)[:, None]
 
 
+def _local(
+    coefficients: _Array, rows: npt.NDArray[np.int32], *points: _Array
+) -> tuple[_Array, npt.NDArray[np.int32], list[_Array]]:
+    r"""Each point's facet relative to its first point :math:`c_0`, and the points too.
+
+    Returns:
+        The coefficients of facet ``rows[p]`` with :math:`c_0` removed, one row per
+        point ``(P, p + 1, gdim)``, the rows ``0..P-1`` selecting them, and each array of
+        ``points`` minus :math:`c_0`.
+    """
+    local = coefficients[rows]
+    origin = local[:, 0].copy()
+    local[:, 0] = 0.0
+    return local, np.arange(rows.size, dtype=np.int32), [p - origin for p in points]
+
+
 def _converged(step: _Array, xi: _Array, tol: float) -> bool:
     """Whether every Newton step passes the relative test (also for no points)."""
     return bool(np.all(np.abs(step) <= tol * (1.0 + np.abs(xi))))
@@ -186,8 +208,10 @@ def project(
     Solves :math:`(x(\xi) - p) \cdot x'(\xi) = 0` by Newton's method from
     :math:`\xi = 1/2`, stopping after at most ``iterations`` steps, or once every step
     :math:`\delta` satisfies :math:`|\delta| \le` ``tol`` :math:`(1 + |\xi|)`; one step is
-    exact on straight facets (the second one then stops the loop).
+    exact on straight facets (the second one then stops the loop). Relative to the
+    facet's first point (see the module docstring).
     """
+    coefficients, rows, (points,) = _local(coefficients, rows, points)
     xi = np.full(rows.size, 0.5)
     for _ in range(iterations):
         x, dx, ddx = evaluate(coefficients, rows, xi, derivatives=2)
@@ -212,8 +236,10 @@ def intersect(
     r"""Parameters :math:`\eta` where the lines ``origins + t * directions`` cross the facets.
 
     Solves :math:`(x(\eta) - o) \times N = 0` by Newton's method from :math:`\eta = 1/2`
-    (Eq. 38, Fig. 7(b)), with the stopping test of :func:`project`.
+    (Eq. 38, Fig. 7(b)), with the stopping test of :func:`project`, relative to the
+    facet's first point.
     """
+    coefficients, rows, (origins,) = _local(coefficients, rows, origins)
     perp = np.stack([-directions[:, 1], directions[:, 0]], axis=1)
     eta = np.full(rows.size, 0.5)
     for _ in range(iterations):
@@ -291,7 +317,8 @@ def clip_segments(
     ``round_off`` :math:`(s + L) / L` with :math:`L` the contactor facet's chord and
     :math:`s` the largest coordinate of its ends (a sliver between coinciding nodes),
     and its middle lies within ``radius`` of the target facet's middle along the
-    contactor normal.
+    contactor normal. Both facets are taken relative to the contactor facet's first
+    point.
 
     Args:
         c_coefficients: Contactor facet coefficients, ``(Fc, pc + 1, 2)``.
@@ -313,19 +340,24 @@ def clip_segments(
     n_c = outward_normals(c_coefficients, c_orientation, ic, half)
     n_t = outward_normals(t_coefficients, t_orientation, it, half)
     facing = np.einsum("pg,pg->p", n_c, n_t) < 0.0
-    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
-    xa = evaluate(t_coefficients, it, np.zeros(it.size))[0]
-    xb = evaluate(t_coefficients, it, np.ones(it.size))[0]
-    xi_a = project(c_coefficients, ic, xa, iterations, tol)
-    xi_b = project(c_coefficients, ic, xb, iterations, tol)
-    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
-    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
-    xm = evaluate(c_coefficients, ic, 0.5 * (lo + hi))[0]
-    xt = evaluate(t_coefficients, it, half)[0]
-    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
     c0 = c_coefficients[ic, 0]
     c1 = evaluate(c_coefficients, ic, np.ones(ic.size))[0]
+    # Both facets of each pair relative to the contactor's first point.
+    c_local, rows, _ = _local(c_coefficients, ic)
+    t_local = t_coefficients[it]
+    t_local[:, 0] -= c0
+    # Only the corner (edge) nodes bound sub-segments, also for quadratic facets.
+    xa = evaluate(t_local, rows, np.zeros(it.size))[0]
+    xb = evaluate(t_local, rows, np.ones(it.size))[0]
+    xi_a = project(c_local, rows, xa, iterations, tol)
+    xi_b = project(c_local, rows, xb, iterations, tol)
+    lo = np.clip(np.minimum(xi_a, xi_b), 0.0, 1.0)
+    hi = np.clip(np.maximum(xi_a, xi_b), 0.0, 1.0)
+    xm = evaluate(c_local, rows, 0.5 * (lo + hi))[0]
+    xt = evaluate(t_local, rows, half)[0]
+    near = np.abs(np.einsum("pg,pg->p", xt - xm, n_c)) <= radius
     chord = np.hypot(c1[:, 0] - c0[:, 0], c1[:, 1] - c0[:, 1])
+    # The round-off of the nodes themselves grows with the scene's coordinates.
     scale = np.maximum(
         np.max(np.abs(c0), axis=1, initial=0.0), np.max(np.abs(c1), axis=1, initial=0.0)
     )
