@@ -252,9 +252,12 @@ class ContactPair:
         return self.discretization.label(self.multiplier_continuous, self.multiplier_degree)
 
     def sub_segments(self, target: int = 0) -> SubSegments:
-        """The sub-segments of the contactor facets against ``targets[target]`` (Fig. 15(b))."""
+        """The sub-segments of the contactor facets against ``targets[target]`` (Fig. 15(b)).
+
+        Their target rows index ``targets[target].gather()``.
+        """
         t = self.targets[target]
-        return sub_segments(self.contactor, t, t.gather_near(self.reach()), self.search_radius)
+        return sub_segments(self.contactor, t, t.gather(), self.search_radius)
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
@@ -290,9 +293,7 @@ class ContactPair:
                     f"the mesh of contact surface {surface.tag} moved after the surface was "
                     "created: create the contact surfaces and pairs again after moving a mesh"
                 )
-        # Each process meets only the target facets within its reach.
-        region = self.reach()
-        gathered = [t.gather_near(region) for t in self.targets]
+        gathered = self.discretization.gathered(self)
         groups = self.discretization.points(self, gathered)
         return [
             self._integrate(t, T, g) for t, T, g in zip(self.targets, gathered, groups, strict=True)

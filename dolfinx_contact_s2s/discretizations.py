@@ -198,6 +198,14 @@ class Discretization:
         r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
         return f"M^{int(continuous)}_{{h,{degree}}}"
 
+    def gathered(self, pair: ContactPair) -> list[SurfaceData]:
+        """The target facets this process can meet (collective).
+
+        Row indices of the point groups of :meth:`points` refer to these arrays.
+        """
+        region = pair.reach()
+        return [t.gather_near(region) for t in pair.targets]
+
     def space(self, pair: ContactPair) -> MultiplierSpace:
         """The multiplier space of ``pair`` (Eq. 16 on the contactor facets)."""
         variant = pair.multiplier_variant
@@ -428,6 +436,10 @@ class IntermediateSurface(Discretization):
     def label(self, continuous: bool, degree: int) -> str:
         """``"M^0_{h,0} (intermediate)"``."""
         return "M^0_{h,0} (intermediate)"
+
+    def gathered(self, pair: ContactPair) -> list[SurfaceData]:
+        """The whole targets: :meth:`space` cut its segments against them."""
+        return [t.gather() for t in pair.targets]
 
     def space(self, pair: ContactPair) -> MultiplierSpace:
         """A mesh of the intermediate segments and a piecewise-constant multiplier on it."""
