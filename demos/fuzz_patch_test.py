@@ -47,10 +47,15 @@ from pathlib import Path
 from mpi4py import MPI
 
 import dolfinx
-from hypothesis import HealthCheck, Phase, given, settings, target
-from hypothesis import seed as hypothesis_seed
+from hypothesis import HealthCheck, Phase, settings
 
-from dolfinx_contact_s2s.studies.fuzz import BOUND_CEILING, FuzzCase, cases, check_case
+from dolfinx_contact_s2s.studies.fuzz import (
+    BOUND_CEILING,
+    FuzzCase,
+    cases,
+    check_case,
+    run_drawn_cases,
+)
 from dolfinx_contact_s2s.studies.report import write_section
 
 comm = MPI.COMM_WORLD
@@ -133,7 +138,7 @@ def count(key: str) -> None:
     mix[key] = mix.get(key, 0) + 1
 
 
-def visit(case: FuzzCase) -> None:
+def visit(case: FuzzCase) -> float | None:
     record, failure = run_case(case)
     state["cases"] += 1
     count("one mesh" if case.one_mesh else "two meshes")
@@ -147,7 +152,7 @@ def visit(case: FuzzCase) -> None:
         )
         state["failures"][-1]["command"] = reproduce(case)
         log(f"FAILURE (chunk seed {chunk_seed}): {failure}\n  {reproduce(case)}")
-        return
+        return None
     ratio = record["ratio"]
     state["condition"] = max(state["condition"], record["condition"])
     state["unknowns"] = max(state["unknowns"], record["unknowns"])
@@ -158,14 +163,14 @@ def visit(case: FuzzCase) -> None:
         state["worst"] = {"ratio": ratio, "seed": chunk_seed, "case": json.loads(case.to_json())}
         state["worst"]["result"] = record
     # Steer the search towards large ratios (Hypothesis's targeted phase).
-    target(ratio)
+    return ratio
 
 
 start = time.perf_counter()
 chunks = 0
 while state["cases"] < args.cases:
     n = min(args.chunk, args.cases - state["cases"])
-    run = settings(
+    chunk_settings = settings(
         max_examples=n,
         derandomize=False,
         database=None,
@@ -173,9 +178,10 @@ while state["cases"] < args.cases:
         suppress_health_check=list(HealthCheck),
         phases=[Phase.generate, Phase.target],
         print_blob=False,
-    )(hypothesis_seed(chunk_seed)(given(strategy)(visit)))
+    )
     before = state["cases"]
-    run()
+    # Hypothesis draws on rank 0 only; every rank checks the case it drew.
+    run_drawn_cases(comm, strategy, visit, chunk_settings, seed=chunk_seed)
     chunks += 1
     if state["cases"] == before:  # Hypothesis found nothing new to draw
         break

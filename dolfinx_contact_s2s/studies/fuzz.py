@@ -51,6 +51,7 @@ __all__ = [
     "build_problem",
     "cases",
     "check_case",
+    "run_drawn_cases",
 ]
 
 #: Cell types a block may have.
@@ -324,6 +325,12 @@ def build_problem(
     """
     from dolfinx_contact_s2s.problem import LinearContactProblem
 
+    # The meshes are rank 0's, the exact solution each rank's own: a case that differs
+    # between the ranks would be checked against the wrong solution without an error.
+    texts = comm.allgather(case.to_json())
+    if any(t != texts[0] for t in texts):
+        ranks = [r for r, t in enumerate(texts) if t != texts[0]]
+        raise ValueError(f"the case differs between the ranks: ranks {ranks} differ from rank 0")
     lower, upper = case.lower, case.upper
     y_upper = lower.height + case.gap
     bodies: list[dict[str, npt.NDArray[np.int32]]] = []
@@ -517,3 +524,66 @@ def cases(max_elements: int = 4, max_segments: int = 3, max_layers: int = 3) -> 
         )
 
     return case()
+
+
+def run_drawn_cases(
+    comm: MPI.Comm,
+    strategy: typing.Any,
+    body: typing.Callable[[typing.Any], float | None],
+    hypothesis_settings: typing.Any,
+    seed: int | None = None,
+) -> None:
+    """Run ``body`` on every rank for each example Hypothesis draws on rank 0 (collective).
+
+    Hypothesis's draws depend on state of the process: it mixes in numeric constants of
+    the local modules the process has imported, and a rank that imported one more module
+    (a plotting one, say) draws other examples from the same seed. Ranks that each drew
+    their own examples would then check different cases in one collective solve, a wrong
+    answer without an error. Here Hypothesis runs on rank 0 only (generation, targeting,
+    shrinking); it broadcasts each example and the other ranks run ``body`` on it.
+
+    Args:
+        comm: The communicator ``body`` is collective on.
+        strategy: The Hypothesis strategy of the examples.
+        body: The check of one example, collective; raises if it fails. A float it
+            returns is Hypothesis's target (maximized in the targeted phase).
+        hypothesis_settings: The ``hypothesis.settings`` of the run.
+        seed: Hypothesis's seed (``hypothesis.seed``), unless derandomized.
+
+    Raises:
+        The failure, on every rank: on rank 0 Hypothesis's (after shrinking, with the
+        falsifying example), on the others the last error of ``body``.
+    """
+    import hypothesis
+
+    error: BaseException | None = None
+    if comm.rank == 0:
+
+        def example(value: typing.Any) -> None:
+            comm.bcast(value, root=0)
+            score = body(value)
+            if score is not None:
+                hypothesis.target(float(score))
+
+        run = hypothesis_settings(hypothesis.given(strategy)(example))
+        if seed is not None:
+            run = hypothesis.seed(seed)(run)
+        try:
+            run()
+        except BaseException as e:  # reported on every rank below
+            error = e
+        finally:
+            comm.bcast(None, root=0)  # the end, also after an error
+    else:
+        while (value := comm.bcast(None, root=0)) is not None:
+            try:
+                body(value)
+            except Exception as e:  # rank 0 decides what to do with a failure
+                error = e
+    failed = comm.allgather(None if error is None else f"{type(error).__name__}: {error}")
+    if error is not None:
+        raise error
+    reasons = [(r, m) for r, m in enumerate(failed) if m is not None]
+    if reasons:
+        rank, message = reasons[0]
+        raise AssertionError(f"the drawn cases failed on rank {rank}: {message}")
