@@ -119,8 +119,10 @@ def grid(degrees: tuple[int, ...] = (1, 2), full: bool = True) -> list[ExtremePo
     Args:
         degrees: Lagrange degrees of the displacements.
         full: Also the intermediate values (E ratios :math:`10^{\pm 3}`, :math:`\nu =
-            0.49`, gaps and overlaps of :math:`10^{-10}`, nodes :math:`10^{-12} h`
-            apart); without them, the ends of every range (the test suite's grid).
+            0.49`, gaps and overlaps of :math:`10^{-10}`); without them, the ends of
+            every range (the test suite's grid). Nodes :math:`10^{-11}, 10^{-12},
+            10^{-13} h` apart are in both: a fixed shortest sub-segment once dropped
+            the pieces of :math:`10^{-12} h` only.
     """
     h = 1.0 / 13  # the lower block's element size along the interface
     base: list[ExtremePoint] = [ExtremePoint("reference", "README")]
@@ -141,7 +143,7 @@ def grid(degrees: tuple[int, ...] = (1, 2), full: bool = True) -> list[ExtremePo
             label = "h" if abs(g) == h else f"{abs(g):.0e}"
             group = f"{kind} {'gap' if g > 0 else 'overlap'}"
             base.append(ExtremePoint(group, label, gap=g, unilateral=unilateral))
-    for delta in (1e-11, 1e-12, 1e-13) if full else (1e-11, 1e-13):
+    for delta in (1e-11, 1e-12, 1e-13):
         for method in ("segment-to-segment", "two-pass node-to-segment"):
             short = "S2S" if method == "segment-to-segment" else "two-pass NTS"
             base.append(
