@@ -27,7 +27,8 @@ demo:
 ## bench: every performance figure of issue 11 as a ratio measured in one run -> results/bench/*.json,
 ## plots and the performance section of results/report.md (about 10-20 minutes on 2 cores)
 BENCH_OUT := results/bench
-BENCH_REQUIRED := p1_coupling p2_share_blocks p2_share_hertz p3_saddle p4_infsup p6_scaling p7_ranks
+BENCH_REQUIRED := p1_coupling p2_share_blocks p2_share_hertz p3_saddle p4_infsup p6_scaling p7_ranks \
+    p8_factorization
 bench:
 	$(ENV_RUN) python3 bench/bench_coupling.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_blocks.py --out $(BENCH_OUT)
@@ -37,6 +38,7 @@ bench:
 	$(ENV_RUN) python3 bench/bench_mpc.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_scaling.py --out $(BENCH_OUT)
 	$(ENV_RUN) $(TIMEOUT) python3 bench/bench_ranks.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_factorization.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_report.py --out $(BENCH_OUT) --require $(BENCH_REQUIRED)
 
 ## bench-smoke: every bench script at tiny sizes; checks that every record is complete (not the timings)
@@ -51,6 +53,7 @@ bench-smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_mpc.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_scaling.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) python3 bench/bench_ranks.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_factorization.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_report.py --out build/bench-smoke-$(SUITE)/bench \
 	    --require $(BENCH_REQUIRED) p4_infsup_np2
 

@@ -40,30 +40,23 @@
 # `--smoke` runs a few points.
 
 # +
-import argparse
 import json
 import time
-from pathlib import Path
 
 from mpi4py import MPI
 
 from dolfinx_contact_s2s.studies.extremes import grid, record_lines, run_point
-from dolfinx_contact_s2s.studies.report import write_section
+from dolfinx_contact_s2s.studies.report import (
+    demo_parser,
+    output_folder,
+    rank0_print,
+    write_section,
+)
 
-parser = argparse.ArgumentParser(description="The patch test at numerical extremes")
-parser.add_argument("--smoke", action="store_true", help="a few points only")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
-args = parser.parse_args()
+args = demo_parser("The patch test at numerical extremes", "a few points only").parse_args()
 comm = MPI.COMM_WORLD
-out: Path = args.out
-if comm.rank == 0:
-    out.mkdir(parents=True, exist_ok=True)
-comm.Barrier()
-
-
-def log(*msg):
-    if comm.rank == 0:
-        print(*msg, flush=True)
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
 
 
 # -

@@ -30,7 +30,6 @@
 # `--smoke` runs two coarse levels into another folder.
 
 # +
-import argparse
 import math
 from pathlib import Path
 
@@ -46,17 +45,17 @@ from dolfinx_contact_s2s.studies.fig16 import (
     SmoothSolution,
     run_case,
 )
-from dolfinx_contact_s2s.studies.report import write_section
+from dolfinx_contact_s2s.studies.report import (
+    demo_parser,
+    output_folder,
+    rank0_print,
+    write_section,
+)
 
-parser = argparse.ArgumentParser(description="Fig. 16: convergence on the inf-sup model")
-parser.add_argument("--smoke", action="store_true", help="two coarse levels")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
-args = parser.parse_args()
+args = demo_parser("Fig. 16: convergence on the inf-sup model", "two coarse levels").parse_args()
 comm = MPI.COMM_WORLD
-out = args.out
-if comm.rank == 0:
-    out.mkdir(parents=True, exist_ok=True)
-comm.Barrier()
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
 
 if args.smoke:
     levels = {"smooth": (2, 4), "paper": (2, 4)}
@@ -64,11 +63,6 @@ if args.smoke:
 else:
     levels = {"smooth": (2, 4, 8, 16), "paper": (2, 4, 8)}
     reference_level = REFERENCE_LEVEL
-
-
-def log(message: str) -> None:
-    if comm.rank == 0:
-        print(message, flush=True)
 
 
 # -

@@ -28,9 +28,7 @@
 # coarse cases into another folder.
 
 # +
-import argparse
 import json
-from pathlib import Path
 
 from mpi4py import MPI
 
@@ -45,22 +43,18 @@ from dolfinx_contact_s2s.studies.hertz_study import (
     hertz_convergence,
     run_case,
 )
-from dolfinx_contact_s2s.studies.report import write_section
+from dolfinx_contact_s2s.studies.report import (
+    demo_parser,
+    output_folder,
+    rank0_print,
+    write_section,
+)
 
-parser = argparse.ArgumentParser(description="Hertz contact study")
-parser.add_argument("--smoke", action="store_true", help="a few coarse cases")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
-args = parser.parse_args()
+args = demo_parser("Hertz contact study", "a few coarse cases").parse_args()
 comm = MPI.COMM_WORLD
 out = args.out
-if comm.rank == 0:
-    (out / "vtx").mkdir(parents=True, exist_ok=True)
-comm.Barrier()
-
-
-def log(message: str) -> None:
-    if comm.rank == 0:
-        print(message, flush=True)
+output_folder(out / "vtx", comm)
+log = rank0_print(comm)
 
 
 records: list[dict] = []

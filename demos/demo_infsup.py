@@ -44,11 +44,9 @@
 # paper (the full run only).
 
 # +
-import argparse
 import json
 import sys
 import time
-from pathlib import Path
 
 from mpi4py import MPI
 
@@ -61,20 +59,12 @@ from dolfinx_contact_s2s.studies.infsup import (
     study_cases,
     table,
 )
+from dolfinx_contact_s2s.studies.report import demo_parser, output_folder, rank0_print
 
-parser = argparse.ArgumentParser(description="Solvability and inf-sup study")
-parser.add_argument("--smoke", action="store_true", help="two levels of a few cases")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
-args = parser.parse_args()
+args = demo_parser("Solvability and inf-sup study", "two levels of a few cases").parse_args()
 comm = MPI.COMM_WORLD
-out: Path = args.out
-if comm.rank == 0:
-    out.mkdir(parents=True, exist_ok=True)
-
-
-def log(*msg):
-    if comm.rank == 0:
-        print(*msg, flush=True)
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
 
 
 def name(rec: dict) -> str:

@@ -46,7 +46,6 @@
 # records of different rank counts are kept side by side. `--smoke` runs a few cases.
 
 # +
-import argparse
 import json
 import time
 from pathlib import Path
@@ -62,22 +61,17 @@ from dolfinx_contact_s2s.studies.patch_test import (
     solve_patch_test,
     stress_component_errors,
 )
-from dolfinx_contact_s2s.studies.report import write_section
+from dolfinx_contact_s2s.studies.report import (
+    demo_parser,
+    output_folder,
+    rank0_print,
+    write_section,
+)
 
-parser = argparse.ArgumentParser(description="The contact patch test study")
-parser.add_argument("--smoke", action="store_true", help="a few cases only")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
-args = parser.parse_args()
+args = demo_parser("The contact patch test study", "a few cases only").parse_args()
 comm = MPI.COMM_WORLD
-out: Path = args.out
-if comm.rank == 0:
-    out.mkdir(parents=True, exist_ok=True)
-comm.Barrier()
-
-
-def log(*msg):
-    if comm.rank == 0:
-        print(*msg, flush=True)
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
 
 
 # -

@@ -35,12 +35,16 @@
 # `mpirun -n 2`; `--smoke` runs a tiny version into another folder.
 
 # +
-import argparse
 from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.report import write_section
+from dolfinx_contact_s2s.studies.report import (
+    demo_parser,
+    output_folder,
+    rank0_print,
+    write_section,
+)
 from dolfinx_contact_s2s.studies.tradeoff import (
     METHODS,
     PRIMARY,
@@ -55,21 +59,12 @@ from dolfinx_contact_s2s.studies.tradeoff import (
     update_results,
 )
 
-parser = argparse.ArgumentParser(description="speed-accuracy trade of the contact methods")
-parser.add_argument("--smoke", action="store_true", help="a tiny version")
-parser.add_argument("--out", type=Path, default=None, help="output folder")
+parser = demo_parser("speed-accuracy trade of the contact methods", "a tiny version", out=None)
 parser.add_argument("--repeats", type=int, default=None, help="timed runs per case")
 args = parser.parse_args()
 comm = MPI.COMM_WORLD
-out = args.out or Path("build/smoke/tradeoff" if args.smoke else "results")
-if comm.rank == 0:
-    out.mkdir(parents=True, exist_ok=True)
-comm.Barrier()
-
-
-def log(message: str) -> None:
-    if comm.rank == 0:
-        print(message, flush=True)
+out = output_folder(args.out or Path("build/smoke/tradeoff" if args.smoke else "results"), comm)
+log = rank0_print(comm)
 
 
 # -

@@ -30,6 +30,7 @@ SCRIPTS = {
     "bench_mpc.py": ["p5_mpc"],
     "bench_scaling.py": ["p6_scaling"],
     "bench_ranks.py": ["p7_ranks"],
+    "bench_factorization.py": ["p8_factorization"],
 }
 
 #: What the issue asks of every record (issue 11, item 6).
@@ -190,3 +191,15 @@ def test_two_blocks_unknowns(level):
     finally:
         dirichlet.destroy()
         model.problem.destroy()
+
+
+@pytest.mark.skip_in_parallel
+def test_bench_factorization_before_ran_on_the_reference_blas(smoke_run):
+    """P8 compares two BLAS libraries: each child says which one it had mapped."""
+    out, failures = smoke_run
+    assert "bench_factorization.py" not in failures, failures.get("bench_factorization.py")
+    record = json.loads((out / "p8_factorization.json").read_text())
+    before, now = record["runs"]
+    assert before["blas_kind"] == "reference" and before["solver_used"]["pc"] == "lu"
+    assert now["blas_kind"] != "reference"
+    assert before["unknowns"] == now["unknowns"] == record["unknowns"]

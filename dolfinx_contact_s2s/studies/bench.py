@@ -94,6 +94,7 @@ GOALS: dict[str, dict[str, typing.Any] | None] = {
     "p5_mpc": None,
     "p6_scaling": None,
     "p7_ranks": {"op": ">=", "value": 1.6},
+    "p8_factorization": {"op": ">=", "value": 2.0},
 }
 
 

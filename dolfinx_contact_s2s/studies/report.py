@@ -9,10 +9,13 @@ results.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import argparse
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-__all__ = ["TITLE", "write_section"]
+from mpi4py import MPI
+
+__all__ = ["TITLE", "demo_parser", "output_folder", "rank0_print", "write_section"]
 
 #: The first line of a new report.
 TITLE = "# dolfinx_contact_s2s: results"
@@ -40,3 +43,37 @@ def write_section(path: str | Path, name: str, lines: Sequence[str]) -> None:
     else:
         text = text.rstrip("\n") + "\n\n" + body + "\n"
     path.write_text(text)
+
+
+def demo_parser(
+    description: str, smoke: str, out: Path | None = Path("results")
+) -> argparse.ArgumentParser:
+    """The command line every demo has: ``--smoke`` (a reduced run) and ``--out``.
+
+    Args:
+        description: What the demo studies.
+        smoke: What ``--smoke`` runs instead.
+        out: The default output folder.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--smoke", action="store_true", help=smoke)
+    parser.add_argument("--out", type=Path, default=out, help="output folder")
+    return parser
+
+
+def output_folder(path: Path, comm: MPI.Comm) -> Path:
+    """Create ``path`` on rank 0 before any rank writes into it (collective)."""
+    if comm.rank == 0:
+        path.mkdir(parents=True, exist_ok=True)
+    comm.Barrier()
+    return path
+
+
+def rank0_print(comm: MPI.Comm) -> Callable[..., None]:
+    """A ``print`` that prints on rank 0 only, flushed (the demos' progress lines)."""
+
+    def log(*words: object) -> None:
+        if comm.rank == 0:
+            print(*words, flush=True)
+
+    return log
