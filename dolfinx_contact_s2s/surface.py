@@ -284,22 +284,21 @@ class ContactSurface:
         ``None``); each process then sends every other only its own facets that meet
         that box, in one all-to-all: a process boxes and segments against the part of a
         target it can reach instead of the whole gathered surface. Rows keep the order
-        of :meth:`gather`. On one process this is :meth:`gather`. The result is kept
-        until :attr:`data` is replaced or a process asks for another region.
+        of :meth:`gather`. On one process this is :meth:`gather`. The results of the
+        last :data:`NEAR_REGIONS` regions are kept until :attr:`data` is replaced.
         """
         if self.comm.size == 1:
             return self.gather()
-        key = None if region is None else np.asarray(region, dtype=np.float64)
-        cached = getattr(self, "_near", None)
-        fresh = (
-            cached is not None
-            and cached[0] is self.data
-            and (cached[1] is None) == (key is None)
-            and (key is None or np.array_equal(cached[1], key))
-        )
-        if self.comm.allreduce(fresh, op=MPI.LAND):
-            return cached[2]
-        regions = self.comm.allgather(key)
+        key = b"" if region is None else np.asarray(region, dtype=np.float64).tobytes()
+        data, cache = getattr(self, "_near", (None, {}))
+        if data is not self.data:
+            cache = {}
+        # Pairs that share this target ask for their own regions in turn: a few are kept.
+        # Every process makes the same calls, so the caches agree; all must hit.
+        if self.comm.allreduce(key in cache, op=MPI.LAND):
+            cache[key] = cache.pop(key)  # most recently used last
+            return cache[key]
+        regions = self.comm.allgather(region if region is None else np.asarray(region))
         boxes = self.backend.bounding_boxes(self.data.coefficients, 5, 0.25)
         parts: list[SurfaceData | None] = []
         for r in regions:
@@ -315,7 +314,11 @@ class ContactSurface:
         near = _concatenate(received)
         for array in vars(near).values():
             array.setflags(write=False)
-        self._near = (self.data, key, near)
+        cache.pop(key, None)
+        cache[key] = near
+        while len(cache) > NEAR_REGIONS:
+            cache.pop(next(iter(cache)))
+        self._near = (self.data, cache)
         return near
 
     # Batched evaluation. ``rows`` selects facets of ``data``, one per point.
@@ -411,8 +414,8 @@ class ContactSurface:
         straight facets are exact. The boxes of gathered facets are cached (read-only).
         """
         gathered = getattr(self, "_gathered", (None, None))[1]
-        near = getattr(self, "_near", (None, None, None))[2]
-        if data is gathered or data is near:
+        near = list(getattr(self, "_near", (None, {}))[1].values())
+        if data is gathered or any(data is n for n in near):
             # The gathered facets change only with :attr:`data` (and the region of
             # :meth:`gather_near`): box them once.
             cache = getattr(self, "_gathered_boxes", {})
@@ -425,7 +428,11 @@ class ContactSurface:
                 )
                 boxes[2].setflags(write=False)
                 # Only the current gathered and near facets are kept.
-                cache = {k: v for k, v in cache.items() if v[0] is gathered or v[0] is near}
+                cache = {
+                    k: v
+                    for k, v in cache.items()
+                    if v[0] is gathered or any(v[0] is n for n in near)
+                }
                 cache[id(data)] = boxes
                 self._gathered_boxes = cache
             return boxes[2]
@@ -461,6 +468,10 @@ def _cpp(obj):
     """The C++ object behind a DOLFINx wrapper (the wrappers differ between versions)."""
     return getattr(obj, "_cpp_object", obj)
 
+
+#: Regions of :meth:`ContactSurface.gather_near` kept per surface (one per pair that
+#: shares the surface as a target, in the scenes of this package).
+NEAR_REGIONS = 4
 
 #: A contact facet whose chord is shorter than this fraction of its cell's extent is
 #: degenerate (two nodes coincide): it has no normal.

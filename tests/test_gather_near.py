@@ -5,6 +5,8 @@ and the coupling blocks assembled from them against those assembled from the who
 target (an independent path through the same kernels): the same to the last bit.
 """
 
+import dataclasses
+
 from mpi4py import MPI
 
 import numpy as np
@@ -54,3 +56,28 @@ def test_near_facets_give_the_whole_coupling(monkeypatch, degree, method):
     assert np.array_equal(gap, reference_gap)
     # Each process holds at most the whole target.
     assert reached <= comm.size * len(whole)
+
+
+def test_regions_of_pairs_sharing_a_target_are_kept():
+    """Pairs sharing a target ask for their regions in turn: each is gathered once."""
+    with readme_problem(degree=1, method="segment-to-segment", elements=(40, 27)) as problem:
+        (pair,) = problem.pairs
+        (target,) = pair.targets
+        whole = target.gather()
+        lo, hi = whole.coefficients[:, 0].min(axis=0), whole.coefficients[:, 0].max(axis=0)
+        middle = 0.5 * (lo + hi)
+        # Each process names its own halves: the left and the right of the target.
+        left = np.array([lo - 1.0, [middle[0], hi[1] + 1.0]])
+        right = np.array([[middle[0], lo[1] - 1.0], hi + 1.0])
+        first = [target.gather_near(left), target.gather_near(right)]
+        again = [target.gather_near(left), target.gather_near(right)]
+        assert all(a is b for a, b in zip(first, again, strict=True)) or comm.size == 1
+        for near, region in zip(again, (left, right), strict=True):
+            boxes = target.bounding_boxes(whole)
+            meets = np.all((boxes[:, 0] <= region[1]) & (region[0] <= boxes[:, 1]), axis=1)
+            if comm.size == 1:
+                meets[:] = True
+            assert np.array_equal(near.dofs, whole.dofs[meets])
+        # A new surface state drops the regions.
+        target.data = dataclasses.replace(target.data)
+        assert target.gather_near(left) is not first[0] or comm.size == 1
