@@ -31,7 +31,8 @@ matrix is spectrally equivalent to :math:`\mathbf S` only up to :math:`H/h`, and
 iterations grow like :math:`\sqrt{H/h}` under refinement. Measured on the inf-sup model
 of Fig. 2 (two clamped blocks, 14, 28, 56, 112 elements on the contactor, 1 rank): 34,
 49, 59, 68 GMRES iterations with the mass matrix, 24, 28, 31, 32 with the fractional
-:math:`\hat{\mathbf S}` below (and 37 at 1 million, 43 at 8 million unknowns).
+:math:`\hat{\mathbf S}` below; on the two-block scene of ``make bench`` (P6, default
+``rtol``) 63 iterations at 10,000 unknowns, 70 at 1 million and 72 at 8 million.
 :math:`\mathbf S` is an operator of order :math:`-1`, the discrete
 :math:`H^{-1/2}(\Gamma_C)` inner product: with :math:`\mathbf A` the Laplacian of the
 multiplier space on the contact line and :math:`\mathbf A \boldsymbol\phi_k = \mu_k
@@ -55,10 +56,10 @@ which the Krylov method is not very sensitive (measured, 113 multipliers, with
 every process (a generalized symmetric eigenproblem of that size, gathered): about
 1,600 multipliers at 8 million unknowns. Its set-up costs :math:`O(m^3)` in the number
 :math:`m` of multipliers: at 1,625, the generalized eigensolve and the product took 72
-and 23 s on this machine's reference BLAS under load, most of the 121 s the system
-stage took at 8 million unknowns (a tridiagonal eigensolver on the lumped mass, 1.5 s
-there, and applying :math:`\boldsymbol\Phi` without forming the product would remove
-it). The multiplier block is then preconditioned by
+and 23 s on this machine's reference BLAS under load; on OpenBLAS the whole system
+stage took 7 s at 8 million unknowns (a tridiagonal eigensolver on the lumped mass,
+1.5 s there, and applying :math:`\boldsymbol\Phi` without forming the product would
+remove most of it). The multiplier block is then preconditioned by
 multiplying with it (``-fieldsplit_lambda_pc_type mat``). ``"mass"``, :math:`\hat{\mathbf
 S} = -(\bar h / c)\, \mathbf P` (:math:`\bar h` the mean facet size, Jacobi on it), is
 the sparse alternative for contact lines too long for a dense matrix. Inactive
