@@ -22,6 +22,7 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s._compat import geometry_dofmap
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.scenes_multi import two_blocks_one_mesh
 from dolfinx_contact_s2s.unilateral import (
@@ -49,7 +50,7 @@ def _blocks(degree=1, cell="triangle", shift=0.0):
     part = scene.parts["blocks"]
     if shift:
         # A user's shifted mesh: move the nodes of the upper block's cells (tag 2).
-        nodes = np.unique(part.mesh.geometry.dofmap[part.cell_tags.find(2)])
+        nodes = np.unique(geometry_dofmap(part.mesh)[part.cell_tags.find(2)])
         part.mesh.geometry.x[nodes, 1] += shift
     V = dolfinx.fem.functionspace(part.mesh, ("Lagrange", degree, (2,)))
     return part, V
