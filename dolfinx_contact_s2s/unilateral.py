@@ -463,6 +463,15 @@ class UnilateralContactProblem(LinearContactProblem):
     def _fail(self, message: str) -> typing.NoReturn:
         raise ContactConvergenceError(message, self.history)
 
+    def _free_motions(self, released: list[npt.NDArray[np.int64]]) -> list:
+        """The rigid motions the contact rows left active do not hold (collective)."""
+        if self._support is None:
+            return []
+        inactive = [
+            np.union1d(op.inactive, r) for op, r in zip(self.operators, released, strict=True)
+        ]
+        return self._support.motions(inactive)
+
     def _check_active_support(self, step: LoadStep, released: list[npt.NDArray[np.int64]]) -> None:
         """Raise if the active set leaves a body free (Eq. 33 on the active rows only).
 
@@ -470,12 +479,7 @@ class UnilateralContactProblem(LinearContactProblem):
         singular, and a direct solver returns arbitrary displacements (or, with no load
         on it, cycles between active sets until ``max_iterations``).
         """
-        if self._support is None:
-            return
-        inactive = [
-            np.union1d(op.inactive, r) for op, r in zip(self.operators, released, strict=True)
-        ]
-        motions = self._support.motions(inactive)
+        motions = self._free_motions(released)
         if motions:
             lines = "\n".join(f"  - {m.describe()}" for m in motions)
             self._fail(
@@ -628,7 +632,8 @@ class UnilateralContactProblem(LinearContactProblem):
             J.mult(x, f)
             f.axpy(-1.0, Sb)
 
-        accepted = [False]
+        accepted: list[bool] = [False]
+        floating: list[typing.Any] = [None]
 
         def converged(snes: PETSc.SNES, it: int, norms: tuple) -> int:
             x = snes.getSolution()
@@ -643,6 +648,10 @@ class UnilateralContactProblem(LinearContactProblem):
             new, entered, left = self._update(state, z)
             self._record(step, new, entered, left, residual)
             state[:] = new
+            released = self._released(new)
+            if self._free_motions(released):
+                floating[0] = released  # reported after the solve, with the motions
+                return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
             # Equilibrium relative to the larger of the loads and the elastic forces K U.
             x.copy(xu)
             for is_ in lambda_sets:
@@ -688,6 +697,15 @@ class UnilateralContactProblem(LinearContactProblem):
                     "complementarity and equilibrium tests (try algorithm='active-set')"
                 )
             if reason <= 0:
+                # A body that floats once its contact opens makes the Newton systems
+                # singular: say so rather than suggest more iterations. Seen by the
+                # complementarity test's set, or at the end by the multipliers PETSc's
+                # VI solver holds at their bound (they carry no force).
+                if floating[0] is None:
+                    floating[0] = [
+                        np.flatnonzero(_part(x, is_) <= 0.0).astype(np.int64) for is_ in lambda_sets
+                    ]
+                self._check_active_support(step, floating[0])
                 self._fail(
                     f"SNES ({snes.getType()}) did not converge at load {step.load:g}: "
                     f"{_SNES_REASONS.get(reason, reason)} after {snes.getIterationNumber()} "
@@ -759,10 +777,14 @@ class UnilateralContactProblem(LinearContactProblem):
         if A is not self.A:
             owned.append(A)
         flat = np.concatenate(active)
+        split = np.cumsum(sizes)[:-1]
         last = lam.array_r.copy()
         try:
             for outer in range(1, self.max_iterations + 1 if augmented else 2):
                 for _ in range(self.max_iterations):
+                    # No penalty stiffness off the active set: a body held by contact
+                    # alone floats there (Eq. 33 on the active rows).
+                    self._check_active_support(step, self._released(np.split(flat, split)))
                     # W = diag(c) on the active set; P = K + (-C)^T W (-C).
                     w.array[:] = np.where(flat, c.array_r, 0.0)
                     WC = minus_C.copy()
@@ -789,7 +811,6 @@ class UnilateralContactProblem(LinearContactProblem):
                     g.aypx(-1.0, G)
                     z = lam.array_r - c.array_r * g.array_r
                     z[pinned] = -np.inf
-                    split = np.cumsum(sizes)[:-1]
                     lam_new = np.where(np.isfinite(z), np.maximum(z, 0.0), 0.0)
                     residual = _relative_change(self.comm, lam_new, last)
                     last = lam_new

@@ -11,6 +11,7 @@ and interior tags, cell tags, a scalar space, a floating lower block, redundant
 node-to-segment-gauss and two-pass constraints) are not repeated.
 """
 
+import functools
 import re
 
 from mpi4py import MPI
@@ -25,7 +26,11 @@ import ufl
 from dolfinx_contact_s2s import Material, contact_pair, contact_pairs, contact_surface
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.scenes import model_to_mesh
-from dolfinx_contact_s2s.unilateral import ContactConvergenceError, UnilateralContactProblem
+from dolfinx_contact_s2s.unilateral import (
+    ALGORITHMS,
+    ContactConvergenceError,
+    UnilateralContactProblem,
+)
 
 comm = MPI.COMM_WORLD
 
@@ -474,24 +479,31 @@ def test_redundant_pairs_both_ways(model):
     assert "pair 0" in message and "pair 1" in message
 
 
-def test_body_held_only_by_contact_that_opens(model):
+@pytest.mark.parametrize("algorithm", ALGORITHMS)
+def test_body_held_only_by_contact_that_opens(model, algorithm):
     """Unilateral contact, the upper block pulled up: the contact opens and it floats.
 
-    The assembly's support check passes (every contact row is active there); the first
-    active set releases every row, which leaves the upper block free to translate
-    vertically: the iteration raises, naming the body and the motion, before it solves.
+    The assembly's support check passes (every contact row is active there); once the
+    active set (for the penalty methods, the penalized rows; for SNES's VI solver, the
+    complementarity test's set) releases every row, the upper block is free to translate
+    vertically: each algorithm raises, naming the body and the motion, instead of
+    solving a singular system or iterating to its limit.
     """
     mesh, facets = model
 
     def solve():
         with readme_problem(
-            mesh, facets, load=(0.0, 1.0), problem=UnilateralContactProblem, prefix="open_"
+            mesh,
+            facets,
+            load=(0.0, 1.0),
+            problem=functools.partial(UnilateralContactProblem, algorithm=algorithm),
+            prefix=f"open_{algorithm.replace('-', '_')}_",
         ) as problem:
             problem.solve()
 
     message = raises_everywhere(
         ContactConvergenceError,
-        r"solve 2 at load 1: the active set leaves these rigid motions free",
+        r"solve \d+ at load 1: the active set leaves these rigid motions free",
         solve,
     )
     assert "body 1 of space 0 (nodes in [0, 1] x [0.5, 1])" in message
