@@ -36,24 +36,10 @@ parser.add_argument("--solver", default="default", help=argparse.SUPPRESS)
 args = parser.parse_args()
 
 if args.child is not None:
-    # One solve in this process: write the pipeline's record and the BLAS it mapped.
-    from mpi4py import MPI
+    from dolfinx_contact_s2s.studies.bench import pipeline_child
 
-    from dolfinx_contact_s2s.studies.bench import Progress, pipeline, versions
-
-    comm = MPI.COMM_WORLD
-    progress = Progress(comm, f"P8 {args.solver}")
-    run = pipeline(
-        comm,
-        args.unknowns,
-        degree=2,
-        solver=args.solver,
-        level=1 if args.smoke else None,
-        log=progress,
-    )
-    run["versions"] = versions()
-    if comm.rank == 0:
-        args.child.write_text(json.dumps(run))
+    level = 1 if args.smoke else None
+    pipeline_child(args.child, args.unknowns, name="P8", degree=2, solver=args.solver, level=level)
     sys.exit(0)
 
 

@@ -31,22 +31,12 @@ parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
 args = parser.parse_args()
 
 if args.child is not None:
-    from mpi4py import MPI
+    from dolfinx_contact_s2s.studies.bench import pipeline_child
 
-    from dolfinx_contact_s2s.studies.bench import Progress, pipeline
-
-    comm = MPI.COMM_WORLD
-    progress = Progress(comm, f"P7, {comm.size} rank(s)")
-    run = pipeline(
-        comm,
-        args.unknowns,
-        degree=args.degree,
-        solver=args.solver,
-        level=1 if args.smoke else None,
-        log=progress,
+    level = 1 if args.smoke else None
+    pipeline_child(
+        args.child, args.unknowns, name="P7", degree=args.degree, solver=args.solver, level=level
     )
-    if comm.rank == 0:
-        args.child.write_text(json.dumps(run))
     sys.exit(0)
 
 

@@ -46,23 +46,17 @@ parser.add_argument("--level", type=int, help=argparse.SUPPRESS)
 args = parser.parse_args()
 
 if args.child is not None:
-    # One size, one solver, in this process: write the pipeline's record.
-    from mpi4py import MPI
+    # One size, one solver, in this process.
+    from dolfinx_contact_s2s.studies.bench import pipeline_child
 
-    from dolfinx_contact_s2s.studies.bench import Progress, pipeline
-
-    comm = MPI.COMM_WORLD
-    progress = Progress(comm, f"P6, {comm.size} rank(s)")
-    run = pipeline(
-        comm,
+    pipeline_child(
+        args.child,
         args.sizes[0],
+        name="P6",
         degree=args.degree,
         solver=args.solvers[0],
         level=args.level,
-        log=progress,
     )
-    if comm.rank == 0:
-        args.child.write_text(json.dumps(run))
     sys.exit(0)
 
 

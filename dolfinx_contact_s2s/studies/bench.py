@@ -58,6 +58,7 @@ __all__ = [
     "make_record",
     "peak_memory",
     "pipeline",
+    "pipeline_child",
     "record_problems",
     "solver_description",
     "solver_options",
@@ -625,3 +626,33 @@ def pipeline(
         }
     finally:
         problem.destroy()
+
+
+def pipeline_child(
+    path: Path | str,
+    unknowns: float,
+    *,
+    name: str,
+    degree: int = 2,
+    solver: str = "default",
+    level: int | None = None,
+) -> None:
+    """:func:`pipeline` in a process of its own (so that its peak memory is its own).
+
+    Writes the record, with the :func:`versions` this process mapped (its BLAS), to
+    ``path`` on rank 0.
+
+    Args:
+        path: The JSON file the parent reads.
+        unknowns: About this many unknowns.
+        name: The figure, for the progress lines.
+        degree: Displacement degree.
+        solver: A name of :func:`solver_options`.
+        level: The level itself, instead of ``unknowns``.
+    """
+    comm = MPI.COMM_WORLD
+    progress = Progress(comm, f"{name}, {comm.size} rank(s)")
+    run = pipeline(comm, unknowns, degree=degree, solver=solver, level=level, log=progress)
+    run["versions"] = versions()
+    if comm.rank == 0:
+        Path(path).write_text(json.dumps(run))
