@@ -18,14 +18,14 @@ from mpi4py import MPI
 
 import basix.ufl
 import dolfinx
-import gmsh
 import numpy as np
 import pytest
+import readme_model
 import ufl
+from readme_model import LOWER, UPPER
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_pairs, contact_surface
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes import model_to_mesh
 from dolfinx_contact_s2s.unilateral import (
     ALGORITHMS,
     ContactConvergenceError,
@@ -34,41 +34,8 @@ from dolfinx_contact_s2s.unilateral import (
 
 comm = MPI.COMM_WORLD
 
-#: Facet tags of the README model: lower block bottom, right, top (target), left; upper
-#: block bottom (contactor), right, top, left.
-LOWER = {"bottom": 1, "right": 2, "top": 10, "left": 4}
-UPPER = {"bottom": 20, "right": 22, "top": 23, "left": 24}
-
-
-def readme_mesh(lower=7, upper=5, quads=False):
-    """The README's Gmsh model: two blocks, one mesh, non-matching contact lines.
-
-    ``quads``: ``True`` recombines both blocks into quadrilaterals, ``"upper"`` only the
-    upper one (a model of two cell types).
-    """
-    gmsh.initialize()
-    gmsh.option.setNumber("General.Terminal", 0)
-    if comm.rank == 0:
-        geo, blocks = gmsh.model.geo, []
-        for y0, n, tags in ((0.0, lower, LOWER), (0.5, upper, UPPER)):
-            p = [geo.addPoint(x, y, 0) for x, y in ((0, y0), (1, y0), (1, y0 + 0.5), (0, y0 + 0.5))]
-            lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
-            blocks.append((geo.addPlaneSurface([geo.addCurveLoop(lines)]), lines, n, tags))
-        geo.synchronize()  # once: mesh settings made before a later synchronize are lost
-        for surface, lines, n, tags in blocks:
-            for line, tag, count in zip(lines, tags.values(), (n, 3, n, 3), strict=True):
-                gmsh.model.mesh.setTransfiniteCurve(line, count + 1)
-                gmsh.model.addPhysicalGroup(1, [line], tag)
-            if quads is True or (quads == "upper" and tags is UPPER):
-                gmsh.model.mesh.setTransfiniteSurface(surface)
-                gmsh.model.mesh.setRecombine(2, surface)
-        gmsh.model.addPhysicalGroup(2, [b[0] for b in blocks], 1)
-        gmsh.model.mesh.generate(2)
-    try:
-        mesh, _, facets = model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    finally:
-        gmsh.finalize()
-    return mesh, facets
+#: The README model as these tests build it: 7 and 5 elements along the contact lines.
+readme_mesh = functools.partial(readme_model.readme_mesh, lower=7, upper=5, sides=3)
 
 
 def readme_problem(

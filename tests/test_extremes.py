@@ -14,11 +14,11 @@ stress state within the round-off bound of its own solve
 from mpi4py import MPI
 
 import dolfinx
-import gmsh
 import numpy as np
 import pytest
 import test_solve_checks
 import ufl
+from readme_model import readme_mesh
 from test_solve_checks import max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
@@ -26,7 +26,6 @@ from dolfinx_contact_s2s.kernels import BACKENDS
 from dolfinx_contact_s2s.petsc import gather_dense
 from dolfinx_contact_s2s.problem import BACKWARD_TOLERANCE, LinearContactProblem
 from dolfinx_contact_s2s.roundoff import round_off_bound
-from dolfinx_contact_s2s.scenes import model_to_mesh
 from dolfinx_contact_s2s.studies.extremes import grid, run_point
 
 comm = MPI.COMM_WORLD
@@ -37,26 +36,7 @@ def readme_example(degree, shift, backend):
 
     Returns the owned pressure values with their dof coordinates less ``shift``.
     """
-    gmsh.initialize()
-    gmsh.option.setNumber("General.Terminal", 0)
-    if MPI.COMM_WORLD.rank == 0:
-        geo, surfaces = gmsh.model.geo, []
-        # Lower block [0, 1] x [0, 0.5], upper block [0, 1] x [0.5, 1]: no shared nodes.
-        for y0, n, tags in ((0.0, 13, (1, 2, 10, 4)), (0.5, 9, (20, 22, 23, 24))):
-            corners = ((0, y0), (1, y0), (1, y0 + 0.5), (0, y0 + 0.5))
-            p = [geo.addPoint(x, y, 0) for x, y in corners]
-            lines = [
-                geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)
-            ]  # bottom, right, top, left
-            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop(lines)]))
-            geo.synchronize()
-            for line, tag, count in zip(lines, tags, (n, 4, n, 4), strict=True):
-                gmsh.model.mesh.setTransfiniteCurve(line, count + 1)
-                gmsh.model.addPhysicalGroup(1, [line], tag)
-        gmsh.model.addPhysicalGroup(2, surfaces, 1)
-        gmsh.model.mesh.generate(2)
-    mesh, _, facets = model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
-    gmsh.finalize()
+    mesh, facets = readme_mesh()
     mesh.geometry.x[:, :2] += shift  # the user's translation
 
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))

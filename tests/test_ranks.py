@@ -59,6 +59,7 @@ import pytest
 import scipy.sparse
 import scipy.spatial
 import ufl
+from readme_model import readme_mesh
 
 from dolfinx_contact_s2s import Material, contact_surface
 from dolfinx_contact_s2s.checks import connected_components
@@ -67,9 +68,7 @@ from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.scenes import (
     BOTTOM,
     TOP,
-    gmsh_session,
     inf_sup_model,
-    model_to_mesh,
     patch_test,
 )
 from dolfinx_contact_s2s.scenes_multi import overhang, three_blocks, two_on_one
@@ -171,28 +170,7 @@ def _partitioner(partition: str, contact_tags, y0: float):
 def readme_scene(comm_name: str, partition: str):
     """The README's two blocks in one mesh (lower top 10, upper bottom 20), as a user builds it."""
     comm = MPI.COMM_WORLD if comm_name == "world" else MPI.COMM_SELF
-    with gmsh_session() as gmsh:
-        gmsh.model.add("readme")
-        if comm.rank == 0:
-            geo, surfaces = gmsh.model.geo, []
-            for y0, n, tags in ((0.0, 13, (1, 2, 10, 4)), (0.5, 9, (20, 22, 23, 24))):
-                p = [
-                    geo.addPoint(x, y, 0)
-                    for x, y in ((0, y0), (1, y0), (1, y0 + 0.5), (0, y0 + 0.5))
-                ]
-                lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
-                surfaces.append(geo.addPlaneSurface([geo.addCurveLoop(lines)]))
-                geo.synchronize()
-                for line, tag, count in zip(lines, tags, (n, 4, n, 4), strict=True):
-                    gmsh.model.mesh.setTransfiniteCurve(line, count + 1)
-                    gmsh.model.addPhysicalGroup(1, [line], tag)
-            gmsh.model.addPhysicalGroup(2, surfaces, 1)
-            gmsh.model.mesh.generate(2)
-        mesh, _, facets = model_to_mesh(
-            gmsh.model, comm, 0, gdim=2, partitioner=_partitioner(partition, (10, 20), 0.5)
-        )
-        gmsh.model.remove()
-    return mesh, facets
+    return readme_mesh(comm, partitioner=_partitioner(partition, (10, 20), 0.5))
 
 
 #: The scenes of :mod:`~dolfinx_contact_s2s.scenes_multi` in one mesh: constructor, (E, nu)
