@@ -181,16 +181,16 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    # The compiled form of the multipliers' integrals, once per pair (the values are
-    # assembled on every call: the geometry may have moved).
-    form = getattr(pair, "_support_form", None)
-    if form is None or form[0] is not Q:
-        form = (Q, dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh)))
-        pair._support_form = form
-    support = dolfinx.fem.assemble_vector(form[1])
-    support.scatter_reverse(dolfinx.la.InsertMode.add)
-    n = imap.size_local
-    none = covered.array_r <= UNCOVERED_TOLERANCE * np.abs(support.array[:n])
+    # The integrals of the multiplier basis, once per pair: the multiplier space lives on
+    # a mesh of its own, made with the pair, whose nodes nothing moves.
+    cached = getattr(pair, "_multiplier_integrals", None)
+    if cached is None or cached[0] is not Q:
+        form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
+        vector = dolfinx.fem.assemble_vector(form)
+        vector.scatter_reverse(dolfinx.la.InsertMode.add)
+        cached = (Q, np.abs(vector.array[: imap.size_local]).copy())
+        pair._multiplier_integrals = cached
+    none = covered.array_r <= UNCOVERED_TOLERANCE * cached[1]
     covered.destroy()
     mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
     return np.concatenate(comm.allgather(mine)).astype(np.int64)
