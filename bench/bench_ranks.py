@@ -4,10 +4,10 @@
 
 The same pipeline (:func:`dolfinx_contact_s2s.studies.bench.pipeline`: the two-block
 scene of about 500,000 unknowns, S2S P2, set up, assembled and solved) runs as this
-script's child once with ``python3`` and once under ``mpirun -n 2``; the figure is the
-speed-up, the pipeline's time on 1 rank over its time on 2 (Gmsh, which meshes on rank
-0 only, left out and reported apart). Goal: >= 1.6. Run it with ``python3`` (one
-process): it launches both runs itself.
+script's child with ``python3`` and under ``mpirun -n 2``, ``--repeats`` times each,
+interleaved; the figure is the speed-up, the fastest pipeline time on 1 rank over the
+fastest on 2 (Gmsh, which meshes on rank 0 only, left out and reported apart). Goal:
+>= 1.6. Run it with ``python3`` (one process): it launches all runs itself.
 
 Writes ``results/bench/p7_ranks.json``.
 """
@@ -22,6 +22,7 @@ from pathlib import Path
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")
+parser.add_argument("--repeats", type=int, default=3, help="runs of each, the fastest kept")
 parser.add_argument("--unknowns", type=float, default=5e5)
 parser.add_argument("--degree", type=int, default=2)
 parser.add_argument("--solver", default="default")
@@ -45,25 +46,33 @@ def say(*message):
     print("[P7]", *message, flush=True)
 
 
-runs = {}
+runs: dict[int, dict] = {}
+seconds: dict[int, list[float]] = {1: [], 2: []}
 with tempfile.TemporaryDirectory() as tmp:
-    for ranks in (1, 2):
-        path = Path(tmp) / f"np{ranks}.json"
-        command = [sys.executable, __file__, "--child", str(path), "--unknowns", str(args.unknowns)]
-        command += ["--degree", str(args.degree), "--solver", args.solver]
-        command += ["--smoke"] if args.smoke else []
-        if ranks > 1:
-            command = [args.mpirun, "-n", str(ranks), *command]
-        say(f"pipeline on {ranks} rank(s) ...")
-        subprocess.run(command, check=True)
-        runs[ranks] = json.loads(path.read_text())
-        t = runs[ranks]["times"]
-        say(
-            f"  {runs[ranks]['unknowns']} unknowns: pipeline {t['pipeline']:.2f} s "
-            "("
-            + ", ".join(f"{k} {t[k]:.2f}" for k in ("stiffness", "contact", "system", "solve"))
-            + f"), Gmsh {t['mesh']:.2f} s"
-        )
+    # Interleaved repeats, the fastest of each kept: on this shared 2-core machine one run
+    # of each varied by up to 40% (P7 from 0.86 to 1.40 on the same code).
+    for repeat in range(1 if args.smoke else args.repeats):
+        for ranks in (1, 2):
+            path = Path(tmp) / f"np{ranks}.json"
+            command = [sys.executable, __file__, "--child", str(path)]
+            command += ["--unknowns", str(args.unknowns)]
+            command += ["--degree", str(args.degree), "--solver", args.solver]
+            command += ["--smoke"] if args.smoke else []
+            if ranks > 1:
+                command = [args.mpirun, "-n", str(ranks), *command]
+            say(f"pipeline on {ranks} rank(s), run {repeat + 1} ...")
+            subprocess.run(command, check=True)
+            run = json.loads(path.read_text())
+            t = run["times"]
+            seconds[ranks].append(t["pipeline"])
+            if ranks not in runs or t["pipeline"] < runs[ranks]["times"]["pipeline"]:
+                runs[ranks] = run
+            say(
+                f"  {run['unknowns']} unknowns: pipeline {t['pipeline']:.2f} s "
+                "("
+                + ", ".join(f"{k} {t[k]:.2f}" for k in ("stiffness", "contact", "system", "solve"))
+                + f"), Gmsh {t['mesh']:.2f} s"
+            )
 
 from mpi4py import MPI  # noqa: E402 (after the children: this process stays light)
 
@@ -81,8 +90,9 @@ record = make_record(
     times={"one_rank_seconds": t1["pipeline"], "two_ranks_seconds": t2["pipeline"]},
     ratio=speedup,
     smoke=args.smoke,
-    ratio_definition="t_pipeline(1 rank) / t_pipeline(2 ranks); pipeline = forms + pairs + "
-    "problem + assemble + solve (Gmsh excluded)",
+    ratio_definition="t_pipeline(1 rank) / t_pipeline(2 ranks), each the fastest of "
+    f"{len(seconds[1])} interleaved runs; pipeline = forms + pairs + problem + assemble + "
+    "solve (Gmsh excluded)",
     ranks=[1, 2],
     peak={
         "max_mb": max(r["peak_memory"]["max_mb"] for r in runs.values()),
@@ -91,6 +101,7 @@ record = make_record(
     stage_speedups={k: t1[k] / t2[k] for k in t1 if t2[k] > 0},
     with_gmsh=(t1["pipeline"] + t1["mesh"]) / (t2["pipeline"] + t2["mesh"]),
     runs={str(k): v for k, v in runs.items()},
+    pipeline_seconds={str(k): v for k, v in seconds.items()},
     unknowns=runs[1]["unknowns"],
 )
 write_record(args.out, record, comm)

@@ -176,6 +176,16 @@ if "p7_ranks" in records:
         "",
         ", ".join(f"{k} {v:.2f}" for k, v in r["stage_speedups"].items()),
     ]
+    every = r.get("pipeline_seconds")
+    if every:
+        lines += [
+            "",
+            "Pipeline times of every run (s), the fastest of each kept: "
+            + "; ".join(
+                f"{k} rank(s) " + ", ".join(f"{t:.2f}" for t in v) for k, v in every.items()
+            )
+            + ".",
+        ]
 if "p5_mpc" in records:
     r = records["p5_mpc"]
     lines += [
