@@ -241,7 +241,7 @@ def p1_limits(r):
             for row in missed:
                 b = row["backends"][backend]
                 rate = row["cells_per_second"] * per
-                out.append(
+                text = (
                     f"- P1, P{degree}, n = {row['n']} ({backend}): ratio {b['ratio']:.3g}. "
                     f"Straight line through the coupling times at n = {rows[0]['n']} and "
                     f"{rows[1]['n']}: {fixed * 1e3:.2g} ms per call whatever n (the fixed "
@@ -250,6 +250,17 @@ def p1_limits(r):
                     f"point's {b['coupling_seconds'] * 1e3:.3g} ms; per sub-segment the "
                     f"coupling alone runs at {1 / rate:.3g} times DOLFINx's rate per cell."
                 )
+                predicted = fixed + per * b["sub_segments"]
+                if b["coupling_seconds"] > 1.05 * predicted:
+                    text += (
+                        f" Here the call takes {b['coupling_seconds'] / predicted:.2f} times "
+                        "what that line predicts, while DOLFINx's rate per cell changes by "
+                        f"{row['cells_per_second'] / rows[0]['cells_per_second']:.2f}: the "
+                        "coupling's cost per sub-segment grows with n (likely memory-bound "
+                        "work on arrays that no longer fit in the caches; not measured per "
+                        "stage)."
+                    )
+                out.append(text)
     return out
 
 
