@@ -188,7 +188,7 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
         vector = dolfinx.fem.assemble_vector(form)
         vector.scatter_reverse(dolfinx.la.InsertMode.add)
-        cached = (Q, np.abs(vector.array[: imap.size_local]).copy())
+        cached = (Q, np.abs(vector.array[: imap.size_local]))
         pair._multiplier_integrals = cached
     none = covered.array_r <= UNCOVERED_TOLERANCE * cached[1]
     covered.destroy()

@@ -179,9 +179,8 @@ def sub_segments(
     """
     C, cs, ts = contactor.data, contactor, target
     ic, it = box_pairs(swept_boxes(cs, C, radius), ts.bounding_boxes(T))
-    # No length of its own: a piece is dropped only as a sliver of round-off. Dropping a
-    # real piece between nodes delta apart costs a consistency error of order delta
-    # (the old 1e-12 of the chord showed as a pressure error of 0.9 delta at 1e-12 h).
+    # No shortest length besides round-off: dropping a real piece between nodes of the
+    # two surfaces delta apart costs a consistency error of order delta in the pressure.
     lo, hi, keep = cs.backend.clip_segments(
         C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it, radius, 0.0
     )

@@ -121,8 +121,8 @@ def grid(degrees: tuple[int, ...] = (1, 2), full: bool = True) -> list[ExtremePo
         full: Also the intermediate values (E ratios :math:`10^{\pm 3}`, :math:`\nu =
             0.49`, gaps and overlaps of :math:`10^{-10}`); without them, the ends of
             every range (the test suite's grid). Nodes :math:`10^{-11}, 10^{-12},
-            10^{-13} h` apart are in both: a fixed shortest sub-segment once dropped
-            the pieces of :math:`10^{-12} h` only.
+            10^{-13} h` apart are in both: the sub-segments between them are the
+            shortest the segmentation must keep.
     """
     h = 1.0 / 13  # the lower block's element size along the interface
     base: list[ExtremePoint] = [ExtremePoint("reference", "README")]

@@ -560,7 +560,7 @@ def run_drawn_cases(
     if comm.rank == 0:
 
         def example(value: typing.Any) -> None:
-            comm.bcast(value, root=0)
+            comm.bcast((True, value), root=0)
             score = body(value)
             if score is not None:
                 hypothesis.target(float(score))
@@ -573,9 +573,12 @@ def run_drawn_cases(
         except BaseException as e:  # reported on every rank below
             error = e
         finally:
-            comm.bcast(None, root=0)  # the end, also after an error
+            comm.bcast((False, None), root=0)  # the end, also after an error
     else:
-        while (value := comm.bcast(None, root=0)) is not None:
+        while True:
+            more, value = comm.bcast(None, root=0)
+            if not more:
+                break
             try:
                 body(value)
             except Exception as e:  # rank 0 decides what to do with a failure
