@@ -23,7 +23,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.bench import (
+from paper.bench import (
     Progress,
     make_record,
     solver_description,

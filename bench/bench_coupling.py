@@ -6,7 +6,7 @@ Two strips (two layers of quadrilaterals each) touch along a line carrying ``n``
 contactor facets (the upper strip) and ``0.7 n`` target facets (the lower one). For
 P1 and P2 displacements (and geometry of the same degree), at each ``n``:
 
-- the coupling: the wall time of :func:`dolfinx_contact_s2s.petsc.assemble_coupling`
+- the coupling: the wall time of :func:`dolfinx_contact_s2s.assemble.assemble_coupling`
   (search, facet geometry, composite integration of Eq. 40 and insertion into PETSc),
   per sub-segment of the composite rule, for every kernel backend present;
 - the stiffness: the wall time of :func:`dolfinx.fem.petsc.assemble_matrix` of the
@@ -32,9 +32,8 @@ import dolfinx.fem.petsc
 import numpy as np
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.petsc import assemble_coupling
-from dolfinx_contact_s2s.scenes import patch_test
-from dolfinx_contact_s2s.studies.bench import (
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from paper.bench import (
     Progress,
     backend_name,
     backends,
@@ -42,7 +41,8 @@ from dolfinx_contact_s2s.studies.bench import (
     timed,
     write_record,
 )
-from dolfinx_contact_s2s.studies.blocks import MATERIALS, NAMES, block_spaces
+from paper.blocks import MATERIALS, NAMES, block_spaces
+from paper.scenes import patch_test
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")

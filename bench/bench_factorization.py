@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 r"""P8: the saddle-point factorization before and after the solver work of issue 11.
 
-The two-block scene of P2/P3 (:func:`dolfinx_contact_s2s.studies.bench.pipeline`, S2S P2,
+The two-block scene of P2/P3 (:func:`paper.bench.pipeline`, S2S P2,
 about 505,000 unknowns) solved twice, each in a process of its own: as before issue 11,
 MUMPS LU on the reference BLAS (the loader finds Debian's reference ``libblas.so.3``
 and ``liblapack.so.3`` first through ``LD_LIBRARY_PATH``), and with the problem's
@@ -36,7 +36,7 @@ parser.add_argument("--solver", default="default", help=argparse.SUPPRESS)
 args = parser.parse_args()
 
 if args.child is not None:
-    from dolfinx_contact_s2s.studies.bench import pipeline_child
+    from paper.bench import pipeline_child
 
     level = 1 if args.smoke else None
     pipeline_child(args.child, args.unknowns, name="P8", degree=2, solver=args.solver, level=level)
@@ -86,7 +86,7 @@ if runs["before"]["blas_kind"] != "reference":
 
 from mpi4py import MPI  # noqa: E402 (after the children: this process stays light)
 
-from dolfinx_contact_s2s.studies.bench import make_record, write_record  # noqa: E402
+from paper.bench import make_record, write_record  # noqa: E402
 
 comm = MPI.COMM_WORLD
 before, now = runs["before"], runs["now"]

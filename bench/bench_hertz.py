@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """P2 (Hertz): the share of contact in the semismooth Newton solve of a Hertz contact.
 
-The scene of the Hertz study (:mod:`dolfinx_contact_s2s.studies.hertz_study`: a half
+The scene of the Hertz study (:mod:`paper.hertz.study`: a half
 cylinder pressed on a block, unknown contact area, Eq. 1) refined to about 500,000
 unknowns, solved by the primal-dual active-set method (semismooth Newton), every
 iteration one saddle-point solve. The contact-specific time is the contact surfaces and
@@ -22,7 +22,8 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.bench import (
+from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper.bench import (
     Progress,
     backend_name,
     make_record,
@@ -30,8 +31,7 @@ from dolfinx_contact_s2s.studies.bench import (
     timed,
     write_record,
 )
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
-from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper.hertz.study import HertzCase, hertz_model
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")

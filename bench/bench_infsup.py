@@ -24,8 +24,8 @@ from pathlib import Path
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from dolfinx_contact_s2s.infsup import InfSupTest
-from dolfinx_contact_s2s.studies.bench import (
+from dolfinx_contact_s2s.analysis.infsup import InfSupTest
+from paper.bench import (
     Progress,
     backend_name,
     make_record,
@@ -33,7 +33,7 @@ from dolfinx_contact_s2s.studies.bench import (
     timed,
     write_record,
 )
-from dolfinx_contact_s2s.studies.infsup import FAMILIES, InfSupCase, inf_sup_problem
+from paper.infsup import FAMILIES, InfSupCase, inf_sup_problem
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--smoke", action="store_true", help="tiny sizes (seconds)")

@@ -8,7 +8,7 @@ non-matching meshes is dolfinx_mpc's slip condition between two facet sets
 displacement equals that of the master surface at the node, eliminated from the system),
 solved by ``dolfinx_mpc.LinearProblem``. Both methods solve the same patch test (section
 3.2, Figs. 4 and 6) on the same meshes: two blocks in one mesh
-(:func:`~dolfinx_contact_s2s.scenes_multi.two_blocks_one_mesh`, triangles, 10k and 7k
+(:func:`~paper.scenes_multi.two_blocks_one_mesh`, triangles, 10k and 7k
 elements along the contact line, different materials), rollers, a pressure :math:`p` on
 top. The exact solution is :math:`\sigma_{yy} = -p`, :math:`\sigma_{xx} =
 \sigma_{xy} = 0` and a contact pressure :math:`p`.
@@ -54,16 +54,16 @@ import ufl  # noqa: E402
 
 from dolfinx_contact_s2s import contact_pair, contact_surface  # noqa: E402
 from dolfinx_contact_s2s.problem import LinearContactProblem  # noqa: E402
-from dolfinx_contact_s2s.scenes_multi import two_blocks_one_mesh  # noqa: E402
-from dolfinx_contact_s2s.studies.bench import (  # noqa: E402
+from paper.bench import (  # noqa: E402
     Progress,
     backend_name,
     make_record,
     timed,
     write_record,
 )
-from dolfinx_contact_s2s.studies.blocks import MATERIALS  # noqa: E402
-from dolfinx_contact_s2s.studies.patch_test import contact_pressure  # noqa: E402
+from paper.blocks import MATERIALS  # noqa: E402
+from paper.patch_test import contact_pressure  # noqa: E402
+from paper.scenes_multi import two_blocks_one_mesh  # noqa: E402
 
 comm = MPI.COMM_WORLD
 log = Progress(comm, "P5")

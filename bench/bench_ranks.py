@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """P7: the whole pipeline on 1 rank against 2 ranks.
 
-The same pipeline (:func:`dolfinx_contact_s2s.studies.bench.pipeline`: the two-block
+The same pipeline (:func:`paper.bench.pipeline`: the two-block
 scene of about 500,000 unknowns, S2S P2, set up, assembled and solved) runs as this
 script's child with ``python3`` and under ``mpirun -n 2``, ``--repeats`` times each,
 interleaved; the figure is the speed-up, the fastest pipeline time on 1 rank over the
@@ -32,7 +32,7 @@ parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
 args = parser.parse_args()
 
 if args.child is not None:
-    from dolfinx_contact_s2s.studies.bench import pipeline_child
+    from paper.bench import pipeline_child
 
     level = 1 if args.smoke else None
     pipeline_child(
@@ -76,7 +76,7 @@ with tempfile.TemporaryDirectory() as tmp:
 
 from mpi4py import MPI  # noqa: E402 (after the children: this process stays light)
 
-from dolfinx_contact_s2s.studies.bench import make_record, write_record  # noqa: E402
+from paper.bench import make_record, write_record  # noqa: E402
 
 comm = MPI.COMM_WORLD
 t1, t2 = runs[1]["times"], runs[2]["times"]

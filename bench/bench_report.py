@@ -3,7 +3,7 @@
 """The performance section of the report, from the records of ``make bench``.
 
 Reads every ``results/bench/*.json``, checks that each is complete (every key of
-:data:`~dolfinx_contact_s2s.studies.bench.REQUIRED_KEYS`, a finite positive ratio),
+:data:`~paper.bench.REQUIRED_KEYS`, a finite positive ratio),
 draws ``results/bench/summary.png`` (each figure's ratio against its goal) and replaces
 the ``bench`` section of ``results/report.md``. Exits with an error when a record is
 incomplete or a figure has no record (``--require``).
@@ -15,8 +15,8 @@ import math
 import sys
 from pathlib import Path
 
-from dolfinx_contact_s2s.studies.bench import GOALS, record_problems
-from dolfinx_contact_s2s.studies.report import write_section
+from paper.bench import GOALS, record_problems
+from paper.report import write_section
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", type=Path, default=Path("results/bench"), help="records folder")

@@ -2,12 +2,12 @@
 # SPDX-License-Identifier: MIT
 r"""P6: time and peak memory of the whole pipeline against the number of unknowns.
 
-The two-block scene (:func:`dolfinx_contact_s2s.studies.bench.pipeline`: the inf-sup
+The two-block scene (:func:`paper.bench.pipeline`: the inf-sup
 model of Fig. 2, S2S P2) from 10,000 unknowns up, each size in a process of its own so
 that its peak memory (``ru_maxrss``) is its own. Each solver column runs: the problem's
-default (direct, MUMPS) and, when :mod:`dolfinx_contact_s2s.solvers` provides it, the
+default (direct, MUMPS) and, when :mod:`dolfinx_contact_s2s.fieldsplit` provides it, the
 iterative saddle-point solver (``--solvers default iterative``; see
-:func:`~dolfinx_contact_s2s.studies.bench.solver_options`). The largest default size,
+:func:`~paper.bench.solver_options`). The largest default size,
 1,000,000 unknowns, takes about 2.3 GB with MUMPS :math:`LDL^T`; ``--sizes`` goes
 further (LU reached 4,000,000 unknowns in 14.2 GB here and ran out of 16 GB at
 4,800,000, issue 11). The iterative solver alone also runs at ``--largest-iterative``
@@ -47,7 +47,7 @@ args = parser.parse_args()
 
 if args.child is not None:
     # One size, one solver, in this process.
-    from dolfinx_contact_s2s.studies.bench import pipeline_child
+    from paper.bench import pipeline_child
 
     pipeline_child(
         args.child,
@@ -74,7 +74,7 @@ for solver in args.solvers:
         [
             sys.executable,
             "-c",
-            "import sys; from dolfinx_contact_s2s.studies.bench import solver_options; "
+            "import sys; from paper.bench import solver_options; "
             f"sys.exit(solver_options({solver!r}) is None)",
         ],
         check=False,
@@ -114,7 +114,7 @@ with tempfile.TemporaryDirectory() as tmp:
 
 from mpi4py import MPI  # noqa: E402 (after the children: this process stays light)
 
-from dolfinx_contact_s2s.studies.bench import make_record, write_record  # noqa: E402
+from paper.bench import make_record, write_record  # noqa: E402
 
 comm = MPI.COMM_WORLD
 default = sorted((r for r in runs if r["solver"] == "default"), key=lambda r: r["unknowns"])

@@ -27,12 +27,12 @@
 #   hydrostatic load ($\lambda = p$ on any interface shape).
 #
 # The tolerance of each point is the round-off bound of its own solve
-# (`dolfinx_contact_s2s.roundoff.round_off_bound`): the Oettli-Prager backward error
+# (`dolfinx_contact_s2s.analysis.roundoff.round_off_bound`): the Oettli-Prager backward error
 # times Higham's estimate of $\| |\mathbf A^{-1}| (|\mathbf A||\mathbf x| + |\mathbf b|)
 # \|_\infty$ restricted to the displacements or to the multipliers. A point passes when
 # both errors, against the closed form, are within it. The scenes are built as the
 # README builds its example (one Gmsh model, the user's forms);
-# `dolfinx_contact_s2s.studies.extremes` holds the grid.
+# `paper.extremes` holds the grid.
 #
 # It writes `results/extremes.json` (records of every rank count side by side),
 # `results/extremes.png` and the section "extremes" of `results/report.md`. Run it as
@@ -45,8 +45,8 @@ import time
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.extremes import grid, record_lines, run_point
-from dolfinx_contact_s2s.studies.report import (
+from paper.extremes import grid, record_lines, run_point
+from paper.report import (
     demo_parser,
     output_folder,
     rank0_print,

@@ -14,7 +14,7 @@
 # tied in the normal direction with $g_0 = 0$; the upper block is the contactor. We
 # measure both $|E - E_h|/E$ and the relative energy norm of the error
 # $\|\mathbf u - \mathbf u_h\|_E/\|\mathbf u\|_E$, $\|\mathbf v\|_E^2 = \sum a(\mathbf v,
-# \mathbf v)$, on two variants (see `dolfinx_contact_s2s.studies.fig16`):
+# \mathbf v)$, on two variants (see `paper.fig16`):
 #
 # - **paper**: bottom clamped, top displaced by $(0, -\delta(1/2 + x))$, sides free.
 #   Clamped edges meet free ones: corner singularities. Reference: S2S
@@ -35,8 +35,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.convergence import records, update_results
-from dolfinx_contact_s2s.studies.fig16 import (
+from paper.fig16 import (
     CASES,
     DELTA,
     QUANTITIES,
@@ -45,7 +44,8 @@ from dolfinx_contact_s2s.studies.fig16 import (
     SmoothSolution,
     run_case,
 )
-from dolfinx_contact_s2s.studies.report import (
+from paper.records import records, update_results
+from paper.report import (
     demo_parser,
     output_folder,
     rank0_print,

@@ -34,16 +34,16 @@ from mpi4py import MPI
 
 import numpy as np
 
-from dolfinx_contact_s2s.convergence import records as records_of
-from dolfinx_contact_s2s.convergence import update_results
-from dolfinx_contact_s2s.studies.hertz_study import (
+from paper.hertz.study import (
     HertzCase,
     add_energy_error,
     energy_reference,
     hertz_convergence,
     run_case,
 )
-from dolfinx_contact_s2s.studies.report import (
+from paper.records import records as records_of
+from paper.records import update_results
+from paper.report import (
     demo_parser,
     output_folder,
     rank0_print,

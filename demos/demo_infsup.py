@@ -50,7 +50,7 @@ import time
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.infsup import (
+from paper.infsup import (
     FAMILIES,
     LEVELS,
     STABLE_SLOPE,
@@ -59,7 +59,7 @@ from dolfinx_contact_s2s.studies.infsup import (
     study_cases,
     table,
 )
-from dolfinx_contact_s2s.studies.report import demo_parser, output_folder, rank0_print
+from paper.report import demo_parser, output_folder, rank0_print
 
 args = demo_parser("Solvability and inf-sup study", "two levels of a few cases").parse_args()
 comm = MPI.COMM_WORLD

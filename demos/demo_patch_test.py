@@ -54,14 +54,14 @@ from mpi4py import MPI
 
 import numpy as np
 
-from dolfinx_contact_s2s.studies.patch_matrix import PASS_TOLERANCE, case_record, study_cases
-from dolfinx_contact_s2s.studies.patch_test import (
+from paper.patch_matrix import PASS_TOLERANCE, case_record, study_cases
+from paper.patch_test import (
     PatchTestCase,
     force_transfer,
     solve_patch_test,
     stress_component_errors,
 )
-from dolfinx_contact_s2s.studies.report import (
+from paper.report import (
     demo_parser,
     output_folder,
     rank0_print,

@@ -39,13 +39,13 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from dolfinx_contact_s2s.studies.report import (
+from paper.report import (
     demo_parser,
     output_folder,
     rank0_print,
     write_section,
 )
-from dolfinx_contact_s2s.studies.tradeoff import (
+from paper.tradeoff import (
     METHODS,
     PRIMARY,
     SOLVERS,

@@ -15,13 +15,13 @@
 # block is transmitted exactly, $\lambda = p$, and the displacements are the linear
 # field of $\sigma_y = -p$, $\sigma_x = \sigma_{xy} = 0$ (Eq. 36). This script draws
 # thousands of two-block models with Hypothesis
-# (`dolfinx_contact_s2s.studies.fuzz.cases`): one Gmsh model with both blocks in one
+# (`paper.fuzz.cases`): one Gmsh model with both blocks in one
 # mesh, or a model per block; each block's cell type and displacement degree; contact
 # edges of several Gmsh curves with random break points, element counts and geometric
 # grading; Young's moduli over six decades, Poisson's ratios up to 0.49; the
 # contactor; a small gap or overlap. Each is built as the README builds its model,
 # solved, and compared with the exact solution within the round-off bound of its
-# solve (`dolfinx_contact_s2s.roundoff`). A case above its bound, or raising, is a
+# solve (`dolfinx_contact_s2s.analysis.roundoff`). A case above its bound, or raising, is a
 # failure.
 #
 # The cases are drawn in chunks, each a Hypothesis run with its own seed (base seed +
@@ -49,14 +49,14 @@ from mpi4py import MPI
 import dolfinx
 from hypothesis import HealthCheck, Phase, settings
 
-from dolfinx_contact_s2s.studies.fuzz import (
+from paper.fuzz import (
     BOUND_CEILING,
     FuzzCase,
     cases,
     check_case,
     run_drawn_cases,
 )
-from dolfinx_contact_s2s.studies.report import write_section
+from paper.report import write_section
 
 comm = MPI.COMM_WORLD
 parser = argparse.ArgumentParser(description="Randomized patch tests of composite S2S")

@@ -5,16 +5,21 @@
 After N. El-Abbasi and K.-J. Bathe, "Stability and patch test performance of contact
 discretizations and a new solution algorithm", Computers & Structures 79 (2001).
 
-The PETSc layer (assembly of the coupling block and the saddle-point solve) lives in
-:mod:`dolfinx_contact_s2s.petsc`, which must be imported explicitly.
+The modules that need petsc4py are imported explicitly, as ``dolfinx.fem.petsc``:
+:mod:`~dolfinx_contact_s2s.problem` (the tied problem of Eq. 18),
+:mod:`~dolfinx_contact_s2s.unilateral` (Eq. 1), :mod:`~dolfinx_contact_s2s.assemble`
+(the coupling block), :mod:`~dolfinx_contact_s2s.fieldsplit` (the iterative solver) and
+:mod:`~dolfinx_contact_s2s.analysis` (solvability, inf-sup, round-off).
 """
 
 import importlib.metadata as _metadata
 import pathlib as _pathlib
 import re as _re
 
-from dolfinx_contact_s2s import scenes
-from dolfinx_contact_s2s.coupling import (
+from dolfinx_contact_s2s import _moved
+from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
+from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.pair import (
     METHODS,
     ContactPair,
     CouplingBlocks,
@@ -22,7 +27,6 @@ from dolfinx_contact_s2s.coupling import (
     contact_pair,
     contact_pairs,
 )
-from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
 
 
@@ -39,6 +43,8 @@ def _read_version() -> str:
 
 __version__ = _read_version()
 
+_moved.install()
+
 __all__ = [
     "METHODS",
     "ContactPair",
@@ -50,6 +56,7 @@ __all__ = [
     "contact_pairs",
     "contact_surface",
     "epsilon",
-    "scenes",
+    "gmsh_session",
+    "model_to_mesh",
     "stress_function",
 ]

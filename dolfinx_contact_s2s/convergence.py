@@ -26,7 +26,6 @@ This module does not need petsc4py; matplotlib is imported only by
 
 from __future__ import annotations
 
-import fcntl
 import json
 import math
 import os
@@ -49,9 +48,9 @@ __all__ = [
     "Level",
     "assert_rate",
     "convergence_study",
-    "records",
+    "json_ready",
+    "on_rank0",
     "richardson",
-    "update_results",
 ]
 
 #: Keys of :attr:`Level.seconds`: wall time (s) of one level, split by stage.
@@ -87,16 +86,19 @@ class Level:
     seconds: dict[str, float]
 
 
-def _jsonable(value: typing.Any) -> typing.Any:
-    """``value`` with tuples as lists and non-finite floats as ``None`` (JSON ``null``)."""
+def json_ready(value: typing.Any) -> typing.Any:
+    """``value`` for :func:`json.dumps`, with non-finite floats as ``None`` (JSON ``null``).
+
+    NumPy scalars and arrays become Python numbers and lists, tuples lists.
+    """
     if isinstance(value, float | np.floating):
         return float(value) if math.isfinite(value) else None
     if isinstance(value, np.integer):
         return int(value)
     if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): json_ready(v) for k, v in value.items()}
     if isinstance(value, list | tuple | np.ndarray):
-        return [_jsonable(v) for v in value]
+        return [json_ready(v) for v in value]
     return value
 
 
@@ -212,7 +214,7 @@ class ConvergenceTable:
             },
             "fitted_over": fit,
         }
-        return _jsonable(out)
+        return json_ready(out)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, typing.Any]) -> ConvergenceTable:
@@ -245,7 +247,7 @@ class ConvergenceTable:
             comm: The processes taking part; default :attr:`comm`.
         """
         text = json.dumps(self.to_dict(last), indent=1, allow_nan=False)
-        _on_rank0(self.comm if comm is None else comm, lambda: _write_text(path, text))
+        on_rank0(self.comm if comm is None else comm, lambda: _write_text(path, text))
 
     def markdown(self, *, last: int = 3) -> str:
         """The table in Markdown: every level's h, unknowns, errors, rates and seconds.
@@ -342,7 +344,7 @@ class ConvergenceTable:
             fig.savefig(path, dpi=120)
             plt.close(fig)
 
-        _on_rank0(self.comm if comm is None else comm, draw)
+        on_rank0(self.comm if comm is None else comm, draw)
 
 
 def _write_text(path: str | os.PathLike, text: str) -> None:
@@ -351,7 +353,7 @@ def _write_text(path: str | os.PathLike, text: str) -> None:
     path.write_text(text + "\n")
 
 
-def _on_rank0(comm: MPI.Comm, action: Callable[[], None]) -> None:
+def on_rank0(comm: MPI.Comm, action: Callable[[], None]) -> None:
     """Run ``action`` on rank 0 of ``comm``; an exception there is raised on every rank."""
     error = None
     if comm.rank == 0:
@@ -592,118 +594,6 @@ def assert_rate(
             f"expected {bound}.\n\n{table.markdown(last=last)}"
         )
     return rate
-
-
-#: Keys of a record of ``results/convergence.json`` given by the caller, and defaults.
-_RECORD_KEYS = {
-    "study": None,
-    "variant": "",
-    "method": None,
-    "multiplier": None,
-    "degree": None,
-    "cell": None,
-}
-
-
-def records(
-    table: ConvergenceTable,
-    *,
-    quantities: Sequence[str] | None = None,
-    last: int = 3,
-    **keys: typing.Any,
-) -> list[dict[str, typing.Any]]:
-    """Records of ``results/convergence.json``: one per error of the table.
-
-    Each record has the ``keys`` (``study`` required; ``variant``, ``method``,
-    ``multiplier``, ``degree``, ``cell`` default to ``""``/``None``; any other key is
-    kept), ``quantity`` (the error's name), ``ranks``, ``levels`` (``level``, ``h``,
-    ``unknowns``, ``error``, ``seconds`` = the total and ``split`` = all
-    :data:`SECONDS`), ``rates`` and ``fitted_rate`` (NaN as ``None``).
-
-    Args:
-        table: The study.
-        quantities: The errors to record; default: all.
-        last: Levels of the fitted rate (fewer if the table has fewer).
-        keys: The study, method and so on.
-
-    Raises:
-        ValueError: Without ``study``.
-    """
-    if not keys.get("study"):
-        raise ValueError("a record needs study=")
-    fit = min(last, len(table.levels))
-    out = []
-    for q in table.error_names if quantities is None else quantities:
-        e = table.errors(q)
-        record = {**_RECORD_KEYS, **keys, "quantity": q, "ranks": table.ranks}
-        record["levels"] = [
-            {
-                "level": lv.level,
-                "h": lv.h,
-                "unknowns": lv.unknowns,
-                "error": float(ei),
-                "seconds": lv.seconds["total"],
-                "split": lv.seconds,
-            }
-            for lv, ei in zip(table.levels, e, strict=True)
-        ]
-        record["rates"] = table.rates(q)
-        record["fitted_rate"] = table.fitted_rate(q, fit) if fit >= 2 else math.nan
-        out.append(_jsonable(record))
-    return out
-
-
-def update_results(
-    path: str | os.PathLike,
-    records: Sequence[Mapping[str, typing.Any]],
-    *,
-    study: str,
-    ranks: int,
-    comm: MPI.Comm = MPI.COMM_WORLD,
-) -> None:
-    """Replace the records of ``study`` on ``ranks`` processes in a JSON list of records.
-
-    Rank 0 reads ``path`` (if it exists), drops the records with this ``study`` and
-    ``ranks``, appends ``records`` and writes the file back, holding a lock on it so that
-    concurrent writers do not lose each other's records. Collective over ``comm``.
-
-    Args:
-        path: The JSON file, e.g. ``results/convergence.json``.
-        records: Records from :func:`records` (the function).
-        study: The study they belong to.
-        ranks: The number of processes they were computed on.
-        comm: The processes taking part.
-
-    Raises:
-        ValueError: On every rank, if a record is of another study or rank count.
-        RuntimeError: On every rank, if rank 0 cannot read or write the file.
-    """
-    new = [_jsonable(dict(r)) for r in records]
-    for r in new:
-        if r.get("study") != study or r.get("ranks") != ranks:
-            raise ValueError(
-                f"record of study {r.get('study')!r} on {r.get('ranks')} ranks given to "
-                f"update study {study!r} on {ranks} ranks"
-            )
-
-    def write() -> None:
-        target = pathlib.Path(path)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        with open(target, "a+") as f:
-            fcntl.flock(f, fcntl.LOCK_EX)
-            f.seek(0)
-            text = f.read()
-            old = json.loads(text) if text.strip() else []
-            if not isinstance(old, list):
-                raise ValueError(f"{target} holds no JSON list of records")
-            kept = [r for r in old if not (r.get("study") == study and r.get("ranks") == ranks)]
-            f.seek(0)
-            f.truncate()
-            f.write(json.dumps(kept + new, indent=1, allow_nan=False) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
-
-    _on_rank0(comm, write)
 
 
 def richardson(levels: Sequence[float], values: Sequence[float]) -> tuple[float, float]:

@@ -8,7 +8,7 @@ the contactor points with their weights :math:`w^i` (nodes, Eqs. 37 and 39; Gaus
 Newton-Cotes points of the contactor segments, Fig. 15(a); or of the sub-segments of
 the new algorithm, Eqs. 40-42 and Fig. 15(b)-(c)), and which target each point meets.
 Each is a small class; :data:`DISCRETIZATIONS` maps the method names of
-:class:`~dolfinx_contact_s2s.coupling.ContactPair` to them, so the method string is
+:class:`~dolfinx_contact_s2s.pair.ContactPair` to them, so the method string is
 read once, when the pair is built.
 """
 
@@ -32,7 +32,7 @@ from dolfinx_contact_s2s.search import find_targets, node_offsets, sub_segments
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
 
 if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.coupling import ContactPair
+    from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = [
     "DISCRETIZATIONS",

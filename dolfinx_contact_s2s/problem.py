@@ -31,14 +31,15 @@ import ufl
 
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
-from dolfinx_contact_s2s.coupling import ContactPair
+from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
+from dolfinx_contact_s2s.la import is_symmetric
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
     PETScOptions,
     mumps_factor,
     solver_failure,
 )
-from dolfinx_contact_s2s.petsc import CouplingOperator, assemble_coupling, is_symmetric
+from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = ["BACKWARD_TOLERANCE", "DEFAULT_OPTIONS", "TIMINGS", "LinearContactProblem"]
 
@@ -150,7 +151,7 @@ class LinearContactProblem:
       :attr:`workspace_retries` times.
     - The system is symmetric when every :math:`\mathbf K` is (an inactive multiplier
       loses its column with its row): :attr:`symmetric`, decided on the assembled
-      :math:`\mathbf K` (:func:`~dolfinx_contact_s2s.petsc.is_symmetric`). The default
+      :math:`\mathbf K` (:func:`~dolfinx_contact_s2s.la.is_symmetric`). The default
       factorization is then MUMPS :math:`LDL^T`, else LU (logged). A ``pc_type`` in
       ``petsc_options`` or the options database is never changed.
     - With ``kind="aij"``, :math:`\mathbf K` is stored once: inside :attr:`A` once the
@@ -258,12 +259,12 @@ class LinearContactProblem:
 
         #: Wall time (s, this process) spent so far in each stage, summed over solves:
         #: ``"stiffness"`` (K and F), ``"contact"`` (search, segmentation and the
-        #: coupling, :func:`~dolfinx_contact_s2s.petsc.assemble_coupling`), ``"system"``
+        #: coupling, :func:`~dolfinx_contact_s2s.assemble.assemble_coupling`), ``"system"``
         #: (the saddle point and the checks) and ``"solve"`` (factorizations and solves).
         self.timings: dict[str, float] = dict.fromkeys(TIMINGS, 0.0)
 
         #: Called as ``solver_setup(self)`` each time the solver is configured for a new
-        #: system, e.g. :class:`dolfinx_contact_s2s.solvers.SchurComplementSetup`.
+        #: system, e.g. :class:`dolfinx_contact_s2s.fieldsplit.SchurComplementSetup`.
         self.solver_setup: typing.Callable[[LinearContactProblem], None] | None = None
         self.options = PETScOptions(petsc_options_prefix, petsc_options, self._default_options())
         self.solver = PETSc.KSP().create(self.comm)
@@ -415,7 +416,7 @@ class LinearContactProblem:
         Args:
             check: Check the support of every body (Eq. 33) and the rank of the
                 constraints (Eq. 35). Only diagnostics of singular discretizations
-                (:mod:`dolfinx_contact_s2s.stability`) leave it out.
+                (:mod:`dolfinx_contact_s2s.analysis.dense`) leave it out.
 
         Raises:
             ValueError: On every rank, if some :math:`\mathbf K` or :math:`\mathbf F`
@@ -823,7 +824,7 @@ class LinearContactProblem:
         10^{-8}` (P2) while the normwise backward error :meth:`backward_error` is 0.5
         machine epsilons. Such a solution is the exact one of a system within round-off of
         Eq. (18), and its accuracy is the conditioning's
-        (:func:`~dolfinx_contact_s2s.roundoff.round_off_bound`). A solve is therefore
+        (:func:`~dolfinx_contact_s2s.analysis.roundoff.round_off_bound`). A solve is therefore
         trusted when either measure is small. A wrong factorization (:math:`LDL^T` of a
         nonsymmetric matrix) or a preconditioner sweep taken for a solve leave a backward
         error many orders above :data:`BACKWARD_TOLERANCE` and still raise; singular

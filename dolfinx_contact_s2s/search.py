@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 r"""Contact search: which contactor facets face which target facets, and where.
 
-Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.coupling`:
+Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.pair`:
 
 - candidate pairs of facets from bounding boxes padded by the search radius
   (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`);

@@ -6,7 +6,7 @@ A :class:`ContactSurface` holds, for every *owned* facet carrying a tag, the cel
 belongs to, its local facet number, the cell's geometry nodes and the global
 indices of the displacement degrees of freedom of that cell. It evaluates points,
 tangents and outward normals on the facets in batches, which is all the coupling
-assembly of :mod:`dolfinx_contact_s2s.coupling` needs. The batched geometry runs in a
+assembly of :mod:`dolfinx_contact_s2s.pair` needs. The batched geometry runs in a
 kernel backend (:func:`dolfinx_contact_s2s.kernels.get_backend`); Basix tabulates.
 
 Facets are parametrised by :math:`\xi \in [0, 1]` along the straight reference

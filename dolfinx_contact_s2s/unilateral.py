@@ -56,9 +56,9 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair
+from dolfinx_contact_s2s.assemble import multiplier_mass
 from dolfinx_contact_s2s.options import solver_failure
-from dolfinx_contact_s2s.petsc import multiplier_mass
+from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import LinearContactProblem
 
 __all__ = [

@@ -12,7 +12,7 @@ from mpi4py import MPI
 
 import gmsh
 
-from dolfinx_contact_s2s.scenes import model_to_mesh
+from dolfinx_contact_s2s.meshing import model_to_mesh
 
 LOWER = {"bottom": 1, "right": 2, "top": 10, "left": 4}
 UPPER = {"bottom": 20, "right": 22, "top": 23, "left": 24}

@@ -22,7 +22,7 @@ import ufl
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface, stress_function
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes_multi import (
+from paper.scenes_multi import (
     BlocksScene,
     overhang,
     three_blocks,

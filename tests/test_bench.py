@@ -175,7 +175,7 @@ def test_two_blocks_unknowns(level):
     bottom has 2 (7 n) + 1 nodes. K alone (contact replaced by Dirichlet conditions) has
     the same displacements and no multipliers.
     """
-    from dolfinx_contact_s2s.studies.bench import two_blocks, two_blocks_level
+    from paper.bench import two_blocks, two_blocks_level
 
     comm = MPI.COMM_WORLD
     model = two_blocks(comm, level, degree=2)

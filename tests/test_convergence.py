@@ -14,17 +14,16 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import scenes
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.convergence import (
     SECONDS,
     ConvergenceTable,
     assert_rate,
     convergence_study,
-    records,
-    update_results,
 )
-from dolfinx_contact_s2s.studies.blocks import block_problem
+from paper import scenes
+from paper.blocks import block_problem
+from paper.records import records, update_results
 
 # --- a problem with known rates: P1 Poisson, smooth manufactured solution ---------------
 

@@ -11,9 +11,10 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
-from dolfinx_contact_s2s.scenes import patch_test
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from dolfinx_contact_s2s.la import gather_dense
 from dolfinx_contact_s2s.search import box_pairs
+from paper.scenes import patch_test
 
 # Gmsh places transfinite nodes within a few 1e-12 of i * W / n, not exactly there.
 GEOMETRY_NOISE = 1e-10

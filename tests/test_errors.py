@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.petsc import assemble_coupling
-from dolfinx_contact_s2s.scenes import BOTTOM, TOP, patch_test
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from paper.scenes import BOTTOM, TOP, patch_test
 
 
 @pytest.fixture(scope="module")

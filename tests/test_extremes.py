@@ -4,11 +4,11 @@
 
 The README example translated by (1e6, 1e6) must pass the patch test as well as the
 untranslated one, with either kernel backend; every point of the extremes grid
-(:mod:`dolfinx_contact_s2s.studies.extremes`: material contrast, near
+(:mod:`paper.extremes`: material contrast, near
 incompressibility, element-size ratio, scale, translation, gaps and overlaps, nearly
 coincident nodes, partial cover, curved interfaces) must reproduce the exact uniform
 stress state within the round-off bound of its own solve
-(:func:`~dolfinx_contact_s2s.roundoff.round_off_bound`), or raise the exception it names.
+(:func:`~dolfinx_contact_s2s.analysis.roundoff.round_off_bound`), or raise the exception it names.
 """
 
 from mpi4py import MPI
@@ -22,11 +22,11 @@ from readme_model import readme_mesh
 from test_solve_checks import max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
 from dolfinx_contact_s2s.kernels import BACKENDS
-from dolfinx_contact_s2s.petsc import gather_dense
+from dolfinx_contact_s2s.la import gather_dense
 from dolfinx_contact_s2s.problem import BACKWARD_TOLERANCE, LinearContactProblem
-from dolfinx_contact_s2s.roundoff import round_off_bound
-from dolfinx_contact_s2s.studies.extremes import grid, run_point
+from paper.extremes import grid, run_point
 
 comm = MPI.COMM_WORLD
 

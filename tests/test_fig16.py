@@ -17,8 +17,8 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s.convergence import assert_rate
-from dolfinx_contact_s2s.studies.blocks import MATERIALS, NAMES
-from dolfinx_contact_s2s.studies.fig16 import (
+from paper.blocks import MATERIALS, NAMES
+from paper.fig16 import (
     Fig16Case,
     Reference,
     SmoothSolution,

@@ -4,9 +4,9 @@
 
 Each example is built as a user builds it (Gmsh, DOLFINx's reader, the user's own forms,
 contact_surface, contact_pairs, LinearContactProblem; see
-dolfinx_contact_s2s.studies.fuzz) and must pass the patch test of composite
+paper.fuzz) and must pass the patch test of composite
 segment-to-segment: the exact uniform pressure and linear displacements, within the
-round-off bound of its solve (dolfinx_contact_s2s.roundoff). Every rank draws the same
+round-off bound of its solve (dolfinx_contact_s2s.analysis.roundoff). Every rank draws the same
 examples (derandomized, no database, no deadline or timing health check); on more than
 one rank nothing is shrunk, since Hypothesis stops shrinking on a wall-clock limit that
 the ranks would not reach together. ``make fuzz`` runs thousands of these
@@ -25,9 +25,10 @@ import pytest
 from hypothesis import HealthCheck, Phase, settings
 from hypothesis import strategies as st
 
-from dolfinx_contact_s2s.petsc import gather_dense
-from dolfinx_contact_s2s.roundoff import round_off_bound
-from dolfinx_contact_s2s.studies.fuzz import (
+from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
+from dolfinx_contact_s2s.la import gather_dense
+from dolfinx_contact_s2s.surface import facet_monomials
+from paper.fuzz import (
     BOUND_CEILING,
     Block,
     FuzzCase,
@@ -37,7 +38,6 @@ from dolfinx_contact_s2s.studies.fuzz import (
     check_case,
     run_drawn_cases,
 )
-from dolfinx_contact_s2s.surface import facet_monomials
 
 comm = MPI.COMM_WORLD
 

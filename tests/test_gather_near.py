@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 from test_solve_checks import readme_problem
 
-from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from dolfinx_contact_s2s.la import gather_dense
 from dolfinx_contact_s2s.surface import ContactSurface
 
 comm = MPI.COMM_WORLD

@@ -17,8 +17,8 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model, run_case
 from dolfinx_contact_s2s.unilateral import ContactConvergenceError, UnilateralContactProblem
+from paper.hertz.study import HertzCase, hertz_model, run_case
 
 #: The issue's bounds on the half-width, the peak pressure and the L2 pressure error.
 A_BOUND, P0_BOUND, L2_BOUND = 0.01, 0.02, 0.05

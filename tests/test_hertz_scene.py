@@ -23,8 +23,8 @@ from scipy.integrate import quad
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
-from dolfinx_contact_s2s.scenes_hertz import GRADING, TAGS, hertz
-from dolfinx_contact_s2s.studies.hertz import Hertz, measure
+from paper.hertz.exact import Hertz, measure
+from paper.hertz.scene import GRADING, TAGS, hertz
 
 EPS = np.finfo(np.float64).eps
 

@@ -15,9 +15,9 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from dolfinx_contact_s2s.infsup import InfSupTest, inf_sup
-from dolfinx_contact_s2s.stability import inf_sup_dense, solvability
-from dolfinx_contact_s2s.studies.infsup import (
+from dolfinx_contact_s2s.analysis.dense import inf_sup_dense, solvability
+from dolfinx_contact_s2s.analysis.infsup import InfSupTest, inf_sup
+from paper.infsup import (
     FIT_FROM,
     STABLE_SLOPE,
     TABLES,
@@ -243,7 +243,7 @@ def test_bad_input():
 
 def test_slope_of_a_power_law():
     """The verdict's fitted slope recovers the exponent of beta = h^s exactly."""
-    from dolfinx_contact_s2s.studies.infsup import slope, verdicts
+    from paper.infsup import slope, verdicts
 
     for s in (0.0, 0.5, 1.0):
         levels = [

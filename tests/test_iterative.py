@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""The Schur-complement field split of ``dolfinx_contact_s2s.solvers``.
+"""The Schur-complement field split of ``dolfinx_contact_s2s.fieldsplit``.
 
 On the inf-sup model of Fig. 2 (two clamped blocks meshed independently, 10n/7n
 quadrilaterals on the contact line, overlapping by 0.01):
@@ -21,16 +21,17 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import contact_pair, contact_surface, scenes
+from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.elasticity import Material
-from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes_multi import two_blocks_one_mesh
-from dolfinx_contact_s2s.solvers import (
+from dolfinx_contact_s2s.fieldsplit import (
     SchurComplementSetup,
     iterative_options,
     use_schur_complement,
 )
-from dolfinx_contact_s2s.studies.blocks import block_problem
+from dolfinx_contact_s2s.problem import LinearContactProblem
+from paper import scenes
+from paper.blocks import block_problem
+from paper.scenes_multi import two_blocks_one_mesh
 
 comm = MPI.COMM_WORLD
 LEVELS = (2, 4, 8)

@@ -20,15 +20,15 @@ import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.petsc import assemble_coupling
-from dolfinx_contact_s2s.scenes import patch_test
-from dolfinx_contact_s2s.studies.patch_matrix import paper_verdict, study_cases
-from dolfinx_contact_s2s.studies.patch_test import (
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from paper.patch_matrix import paper_verdict, study_cases
+from paper.patch_test import (
     PatchTestCase,
     errors,
     force_transfer,
     solve_patch_test,
 )
+from paper.scenes import patch_test
 
 PASS = 1e-10
 FAIL = 1e-3

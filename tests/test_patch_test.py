@@ -13,7 +13,7 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from dolfinx_contact_s2s.studies.patch_test import (
+from paper.patch_test import (
     PatchTestCase,
     exact_displacement,
     solve_patch_test,

@@ -63,18 +63,13 @@ from readme_model import readme_mesh
 
 from dolfinx_contact_s2s import Material, contact_surface
 from dolfinx_contact_s2s.checks import connected_components
-from dolfinx_contact_s2s.coupling import contact_pairs
+from dolfinx_contact_s2s.pair import contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes import (
-    BOTTOM,
-    TOP,
-    inf_sup_model,
-    patch_test,
-)
-from dolfinx_contact_s2s.scenes_multi import overhang, three_blocks, two_on_one
-from dolfinx_contact_s2s.studies.blocks import block_problem
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper.blocks import block_problem
+from paper.hertz.study import HertzCase, hertz_model
+from paper.scenes import BOTTOM, TOP, inf_sup_model, patch_test
+from paper.scenes_multi import overhang, three_blocks, two_on_one
 
 EPS = np.finfo(np.float64).eps
 
@@ -103,7 +98,7 @@ SOLVES: dict[str, typing.Any] = {"omega_over_eps": 0.0, "kappa": 0.0}
 
 
 def partitioner(rule: str, contact_tags: tuple[int, ...] | dict[str, tuple[int, ...]], y0: float):
-    """A cell partitioner for :func:`~dolfinx_contact_s2s.scenes.model_to_mesh`.
+    """A cell partitioner for :func:`~dolfinx_contact_s2s.meshing.model_to_mesh`.
 
     The process holding the Gmsh model decides from the model's nodes: a cell is a
     contact cell when two of its vertices lie on a curve of ``contact_tags`` (it then
@@ -173,7 +168,7 @@ def readme_scene(comm_name: str, partition: str):
     return readme_mesh(comm, partitioner=_partitioner(partition, (10, 20), 0.5))
 
 
-#: The scenes of :mod:`~dolfinx_contact_s2s.scenes_multi` in one mesh: constructor, (E, nu)
+#: The scenes of :mod:`~paper.scenes_multi` in one mesh: constructor, (E, nu)
 #: by cell tag (each block its own; blocks side by side under one block of the same
 #: vertical compliance), pairs as (contactor block, [target blocks]) of bottoms on tops,
 #: and the tags of their contact lines.

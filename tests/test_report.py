@@ -6,7 +6,7 @@ from mpi4py import MPI
 
 import pytest
 
-from dolfinx_contact_s2s.studies.report import TITLE, write_section
+from paper.report import TITLE, write_section
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="a file written by one process")

@@ -1,4 +1,4 @@
-"""The round-off bound of a solve (dolfinx_contact_s2s.roundoff).
+"""The round-off bound of a solve (dolfinx_contact_s2s.analysis.roundoff).
 
 The 1-norm estimates are compared with NumPy's dense computation of the same quantities
 (an independent implementation); the patch test (a uniform unit
@@ -14,8 +14,8 @@ import test_solve_checks
 from test_solve_checks import max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import Material
-from dolfinx_contact_s2s.petsc import gather_dense
-from dolfinx_contact_s2s.roundoff import _equilibration, round_off_bound
+from dolfinx_contact_s2s.analysis.roundoff import _equilibration, round_off_bound
+from dolfinx_contact_s2s.la import gather_dense
 
 comm = MPI.COMM_WORLD
 

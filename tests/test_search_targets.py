@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from dolfinx_contact_s2s.la import gather_dense
 
 TAG = 7
 EPS = np.finfo(float).eps

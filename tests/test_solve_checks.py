@@ -14,10 +14,11 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import Material, contact_pairs, contact_surface, scenes
+from dolfinx_contact_s2s import Material, contact_pairs, contact_surface
+from dolfinx_contact_s2s.analysis.dense import solvability
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.stability import solvability
-from dolfinx_contact_s2s.studies.blocks import block_problem
+from paper import scenes
+from paper.blocks import block_problem
 
 comm = MPI.COMM_WORLD
 MATERIALS = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=3.0, nu=0.2)}

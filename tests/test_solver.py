@@ -19,11 +19,12 @@ import pytest
 import ufl
 from test_solve_checks import MATERIALS, max_pressure_error, readme_problem
 
-from dolfinx_contact_s2s import contact_pairs, contact_surface, scenes
-from dolfinx_contact_s2s.petsc import gather_dense, is_symmetric
+from dolfinx_contact_s2s import contact_pairs, contact_surface
+from dolfinx_contact_s2s.la import gather_dense, is_symmetric
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper import scenes
+from paper.hertz.study import HertzCase, hertz_model
 
 comm = MPI.COMM_WORLD
 EPS = np.finfo(float).eps

@@ -16,8 +16,8 @@ from mpi4py import MPI
 
 import pytest
 
-from dolfinx_contact_s2s.studies.patch_matrix import PASS_TOLERANCE
-from dolfinx_contact_s2s.studies.tradeoff import (
+from paper.patch_matrix import PASS_TOLERANCE
+from paper.tradeoff import (
     ERRORS,
     PRIMARY,
     SOLVERS,

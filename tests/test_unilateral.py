@@ -24,12 +24,12 @@ import ufl
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
 from dolfinx_contact_s2s._compat import geometry_dofmap
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes_multi import two_blocks_one_mesh
 from dolfinx_contact_s2s.unilateral import (
     ALGORITHMS,
     ContactConvergenceError,
     UnilateralContactProblem,
 )
+from paper.scenes_multi import two_blocks_one_mesh
 
 EPS = np.finfo(np.float64).eps
 #: The issue's bound on the patch test solved as a unilateral problem.
@@ -247,7 +247,7 @@ def test_snes_vi_with_uncovered_multipliers():
     the active-set loop, an independent algorithm for the same complementarity problem:
     the same active set, and the same saddle point solved at the end.
     """
-    from dolfinx_contact_s2s.studies.hertz_study import HertzCase, hertz_model
+    from paper.hertz.study import HertzCase, hertz_model
 
     case = HertzCase(
         degree=2, cell="quadrilateral", elements_across=6, a=0.1, R2=2.0, far_size=0.25

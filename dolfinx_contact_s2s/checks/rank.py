@@ -17,7 +17,7 @@ import scipy.sparse
 import scipy.sparse.csgraph
 
 from dolfinx_contact_s2s.checks.linalg import echelon, owned_rows
-from dolfinx_contact_s2s.petsc import gather_dense
+from dolfinx_contact_s2s.la import gather_dense
 
 __all__ = [
     "REDUNDANT_TOL",

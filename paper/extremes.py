@@ -17,7 +17,7 @@ uniform stress (section 3.2, Eq. 36):
 The exact displacements are linear (plane strain, :math:`\varepsilon_{xx} =
 ((1-\nu^2)\sigma_x - \nu(1+\nu)\sigma_y)/E`), so every element represents them and the
 only error left is round-off: each point passes when the errors of the displacements and
-of the multipliers are within :func:`~dolfinx_contact_s2s.roundoff.round_off_bound` of
+of the multipliers are within :func:`~dolfinx_contact_s2s.analysis.roundoff.round_off_bound` of
 its solve. A point may instead raise a clear exception (the same on every rank), which
 it must then name in :attr:`ExtremePoint.expect`; anything else is a failure.
 
@@ -46,10 +46,10 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s._compat import geometry_dofmap
-from dolfinx_contact_s2s.coupling import contact_pairs
+from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
+from dolfinx_contact_s2s.meshing import model_to_mesh
+from dolfinx_contact_s2s.pair import contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.roundoff import round_off_bound
-from dolfinx_contact_s2s.scenes import model_to_mesh
 from dolfinx_contact_s2s.surface import contact_surface
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 

@@ -17,7 +17,7 @@ Tags: block :math:`b` (numbered from 1 in the order given) carries cell tag :mat
 and facet tags :math:`10b` (bottom), :math:`10b + 2` (right), :math:`10b + 3` (top)
 and :math:`10b + 4` (left), the same whichever mesh holds it, so that a tag names one
 side of one block in every arrangement. The only exception is the lower block of the
-two-block scenes, which keeps the tags of :func:`dolfinx_contact_s2s.scenes.patch_test`
+two-block scenes, which keeps the tags of :func:`paper.scenes.patch_test`
 for bottom 1, right 2 and left 4, and has top 10.
 
 Every scene solves the patch problem exactly: :math:`\sigma_{yy} = -p`,
@@ -42,7 +42,7 @@ import dolfinx
 import numpy as np
 
 from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
-from dolfinx_contact_s2s.scenes import gmsh_session
+from dolfinx_contact_s2s.meshing import gmsh_session
 
 __all__ = [
     "ARRANGEMENTS",
@@ -344,7 +344,7 @@ def two_blocks_one_mesh(
         height: :math:`H`.
         layers: Elements across the height of each block (default: about square cells).
         partitioner: Cell partitioner of the mesh (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene, with its one mesh in ``parts["blocks"]``. Cells: lower 1, upper 2.
@@ -398,7 +398,7 @@ def overhang(
         height: :math:`H` of both blocks.
         layers: Elements across the height of each block.
         partitioner: Cell partitioner of the meshes (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene; tags as in :func:`two_blocks_one_mesh`, meshes ``"blocks"`` (one
@@ -452,7 +452,7 @@ def three_blocks(
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
         partitioner: Cell partitioner of the meshes (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower_left"`` (cells 1, facets 10, 12, 13, 14),
@@ -511,7 +511,7 @@ def two_on_one(
         geometry_degree: 1 or 2.
         height: :math:`H` of every block.
         partitioner: Cell partitioner of the meshes (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene. Blocks ``"lower"`` (cells 1, facets 10, 12, 13, 14),

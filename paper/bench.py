@@ -20,7 +20,7 @@ JSON record per figure with :func:`write_record`; every record holds the keys of
 Seams for work in progress elsewhere: :func:`backends` lists the coupling kernel
 backends present (a compiled one when it exists), :func:`backend_name` reads which one
 a surface uses, and :func:`solver_options` maps a solver name to PETSc options (the
-iterative saddle-point solver, when :mod:`dolfinx_contact_s2s.solvers` provides it).
+iterative saddle-point solver, when :mod:`dolfinx_contact_s2s.fieldsplit` provides it).
 """
 
 from __future__ import annotations
@@ -44,6 +44,8 @@ from pathlib import Path
 from mpi4py import MPI
 
 import numpy as np
+
+from dolfinx_contact_s2s.convergence import json_ready
 
 __all__ = [
     "GOALS",
@@ -288,7 +290,7 @@ def solver_options(name: str, spaces: int = 2) -> dict[str, typing.Any] | None:
     - ``"default"``: the problem's own defaults (an empty dictionary);
     - ``"lu"``: MUMPS LU; ``"ldlt"``: MUMPS :math:`LDL^T` (symmetric indefinite);
     - ``"iterative"``: the Schur-complement field split of
-      :mod:`dolfinx_contact_s2s.solvers` (``iterative_options``), None until it exists;
+      :mod:`dolfinx_contact_s2s.fieldsplit` (``iterative_options``), None until it exists;
       :func:`configure_solver` completes its set-up on the problem.
 
     Args:
@@ -308,7 +310,7 @@ def solver_options(name: str, spaces: int = 2) -> dict[str, typing.Any] | None:
         }
     if name == "iterative":
         try:
-            solvers = importlib.import_module("dolfinx_contact_s2s.solvers")
+            solvers = importlib.import_module("dolfinx_contact_s2s.fieldsplit")
         except ImportError:
             return None
         make = getattr(solvers, "iterative_options", None)
@@ -320,11 +322,11 @@ def configure_solver(problem: typing.Any, name: str) -> None:
     """What a solver needs on the problem besides its options (before it is assembled).
 
     The iterative solver installs its Schur-complement set-up
-    (``dolfinx_contact_s2s.solvers.use_schur_complement``); the direct ones need nothing.
+    (``dolfinx_contact_s2s.fieldsplit.use_schur_complement``); the direct ones need nothing.
     """
     if name != "iterative":
         return
-    solvers = importlib.import_module("dolfinx_contact_s2s.solvers")
+    solvers = importlib.import_module("dolfinx_contact_s2s.fieldsplit")
     setup = getattr(solvers, "use_schur_complement", None)
     if callable(setup):
         setup(problem)
@@ -420,16 +422,9 @@ def write_record(out: str | Path, record: dict[str, typing.Any], comm: MPI.Comm)
     path = out / f"{record['name']}{suffix}.json"
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(record, indent=1, default=_jsonable) + "\n")
+        path.write_text(json.dumps(json_ready(record), indent=1) + "\n")
     comm.Barrier()
     return path
-
-
-def _jsonable(value: typing.Any) -> typing.Any:
-    """NumPy scalars and arrays as JSON values."""
-    if hasattr(value, "tolist"):
-        return value.tolist()
-    raise TypeError(f"not JSON serializable: {type(value).__name__}")
 
 
 def record_problems(record: dict[str, typing.Any]) -> list[str]:
@@ -532,8 +527,8 @@ def two_blocks(
         prefix: PETSc options prefix of the problem.
     """
     from dolfinx_contact_s2s.problem import LinearContactProblem
-    from dolfinx_contact_s2s.scenes import inf_sup_model
-    from dolfinx_contact_s2s.studies.blocks import block_forms, block_pairs, block_spaces
+    from paper.blocks import block_forms, block_pairs, block_spaces
+    from paper.scenes import inf_sup_model
 
     options = solver_options(solver, spaces=2)
     if options is None:

@@ -27,8 +27,8 @@ from mpi4py import MPI
 
 import numpy as np
 
-from dolfinx_contact_s2s.scenes import inf_sup_model
-from dolfinx_contact_s2s.studies.blocks import block_problem
+from paper.blocks import block_problem
+from paper.scenes import inf_sup_model
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.problem import LinearContactProblem
@@ -147,8 +147,8 @@ def level_record(
     reference of Eqs. (30)-(32) runs too (``beta_dense``, ``pressure_modes_dense``).
     ``beta_full`` is :math:`\beta_h` of Eq. (22) (with ``full``).
     """
-    from dolfinx_contact_s2s.infsup import InfSupTest
-    from dolfinx_contact_s2s.stability import inf_sup_dense, solvability
+    from dolfinx_contact_s2s.analysis.dense import inf_sup_dense, solvability
+    from dolfinx_contact_s2s.analysis.infsup import InfSupTest
 
     problem, h = inf_sup_problem(comm, case, n)
     test = InfSupTest(problem, h)

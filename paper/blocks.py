@@ -3,7 +3,7 @@
 r"""The two-block setup shared by the studies: spaces, forms, supports and pairs.
 
 Both the patch test (section 3.2, Figs. 4 and 6) and the inf-sup model (Fig. 2) are a
-lower and an upper block of :func:`dolfinx_contact_s2s.scenes.patch_test`, each a mesh
+lower and an upper block of :func:`paper.scenes.patch_test`, each a mesh
 and a displacement space of its own, with different materials on purpose:
 
 - ``support="rollers"``: :math:`u_x = 0` on the left edges, :math:`u_y = 0` on the
@@ -20,10 +20,10 @@ import dolfinx
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
 from dolfinx_contact_s2s.elasticity import Material
-from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, TOP, PatchTestScene
+from dolfinx_contact_s2s.pair import ContactPair, contact_pairs
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
+from paper.scenes import BOTTOM, LEFT, TOP, PatchTestScene
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.problem import LinearContactProblem

@@ -17,7 +17,7 @@ solves it with composite segment-to-segment and compares it with the exact solut
 :math:`\lambda = p` and the linear displacements of a uniaxial stress
 :math:`\sigma_y = -p` (plane strain), which every element used here represents
 exactly (Eq. 36). The errors are measured against the round-off bound of the solve
-(:func:`~dolfinx_contact_s2s.roundoff.round_off_bound`): a ratio above 1 is a defect.
+(:func:`~dolfinx_contact_s2s.analysis.roundoff.round_off_bound`): a ratio above 1 is a defect.
 
 :func:`cases` is the Hypothesis strategy of these cases (Hypothesis is imported when it
 is called); ``tests/test_fuzz.py`` runs a few dozen and ``demos/fuzz_patch_test.py``
@@ -38,8 +38,8 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.coupling import contact_pairs
-from dolfinx_contact_s2s.scenes import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.pair import contact_pairs
 from dolfinx_contact_s2s.surface import contact_surface
 
 __all__ = [
@@ -430,7 +430,7 @@ def check_case(
         method: The contact discretization; the patch test (Eq. 36) holds for the
             default, composite segment-to-segment.
     """
-    from dolfinx_contact_s2s.roundoff import round_off_bound
+    from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
 
     built = build_problem(case, comm, prefix, method)
     with built.problem as problem:

@@ -8,7 +8,7 @@ row rank (Eqs. 34-35): otherwise some multipliers are not determined, and a dire
 solver returns arbitrary values for them. It is stable when, in addition, the inf-sup
 values of Eqs. (22) and (26)-(27) stay bounded away from zero as the mesh is refined:
 :func:`inf_sup_dense` evaluates them as the paper states them, :class:`InfSupTest` for
-large meshes (:mod:`dolfinx_contact_s2s.infsup`). Both work on any
+large meshes (:mod:`dolfinx_contact_s2s.analysis.infsup`). Both work on any
 :class:`~dolfinx_contact_s2s.problem.LinearContactProblem` through its public API; a
 problem that is not yet assembled is assembled without the solvability checks that
 these functions are there to quantify. This module needs petsc4py.
@@ -27,8 +27,9 @@ import numpy.typing as npt
 import scipy.linalg
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair
-from dolfinx_contact_s2s.petsc import gather_dense, multiplier_mass
+from dolfinx_contact_s2s.assemble import multiplier_mass
+from dolfinx_contact_s2s.la import gather_dense
+from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import LinearContactProblem
 
 __all__ = [

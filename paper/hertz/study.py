@@ -16,7 +16,7 @@ bottom.
 
 Everything is read from the multiplier :math:`\lambda` (the package's pressure field):
 the peak :math:`p_0`, the half-width and the relative :math:`L^2` error over
-:math:`[-a, a]` (:func:`~dolfinx_contact_s2s.studies.hertz.measure`). The reported
+:math:`[-a, a]` (:func:`~paper.hertz.exact.measure`). The reported
 half-width ``a`` is the moment half-width :math:`2 \sqrt{\int \lambda x^2 / \int
 \lambda}`, which converges with the integral of :math:`\lambda`; the edge of the support
 (``a_edge``) is resolved to a fraction of an element only.
@@ -39,9 +39,9 @@ import ufl
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.convergence import ConvergenceTable, convergence_study, richardson
 from dolfinx_contact_s2s.elasticity import Material, epsilon
-from dolfinx_contact_s2s.scenes_hertz import HertzScene, hertz
-from dolfinx_contact_s2s.studies.hertz import Hertz, measure
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper.hertz.exact import Hertz, measure
+from paper.hertz.scene import HertzScene, hertz
 
 __all__ = [
     "LEVELS",
@@ -78,7 +78,7 @@ class HertzCase:
         lower: :math:`(E, \\nu)` of the lower body.
         far_size: Element size far from the contact (None: the scene's default).
         edge_nodes: Mesh nodes on the arc at the exact edges :math:`x = \\pm a`
-            (:func:`~dolfinx_contact_s2s.scenes_hertz.hertz`).
+            (:func:`~paper.hertz.scene.hertz`).
     """
 
     method: str = "segment-to-segment"
@@ -142,7 +142,7 @@ def hertz_model(
         case: The case.
         comm: Communicator of the mesh.
         partitioner: Cell partitioner of the mesh (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
     """
     scene = hertz(
         comm,

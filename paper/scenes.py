@@ -6,14 +6,12 @@ Gmsh builds every body on one rank; DOLFINx's Gmsh reader distributes it. Each
 body is a mesh of its own, so bodies may carry different element types, degrees,
 materials and partitions; the contact coupling only ever touches their surfaces.
 Scenes of several blocks, in one mesh or several, are in
-:mod:`dolfinx_contact_s2s.scenes_multi`.
+:mod:`paper.scenes_multi`.
 """
 
 from __future__ import annotations
 
-import contextlib
 import typing
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -21,40 +19,14 @@ from mpi4py import MPI
 
 import dolfinx
 
-from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
+from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
 
 __all__ = [
     "Body",
     "PatchTestScene",
-    "gmsh_session",
     "inf_sup_model",
-    "model_to_mesh",
     "patch_test",
 ]
-
-
-def model_to_mesh(
-    model: typing.Any,
-    comm: MPI.Comm,
-    rank: int = 0,
-    gdim: int = 2,
-    *,
-    partitioner: typing.Callable | None = None,
-) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
-    """DOLFINx's Gmsh reader, whatever its version: ``(mesh, cell_tags, facet_tags)``.
-
-    Args:
-        model: The Gmsh model (``gmsh.model``), built on ``rank``.
-        comm: Communicator to distribute the mesh over.
-        rank: Rank that holds the model.
-        gdim: Geometric dimension.
-        partitioner: Cell partitioner of :func:`dolfinx.mesh.create_mesh`, called as
-            ``partitioner(comm, nparts, cell_types, cells)`` on every process with the
-            cells it holds (vertex indices into the model's nodes, Gmsh tag minus one);
-            it returns each cell's destination rank as an adjacency list. None:
-            DOLFINx's graph partitioner.
-    """
-    return gmsh_model_to_mesh(model, comm, rank, gdim, partitioner)
 
 
 #: Facet tags of a rectangular block.
@@ -104,22 +76,6 @@ class PatchTestScene:
     def bodies(self) -> dict[str, Body]:
         """The bodies by name."""
         return {"lower": self.lower, "upper": self.upper}
-
-
-@contextlib.contextmanager
-def gmsh_session() -> Iterator[typing.Any]:
-    """A Gmsh session: initialized here unless the caller already did, quiet."""
-    import gmsh
-
-    started = not gmsh.isInitialized()
-    if started:
-        gmsh.initialize(interruptible=False)
-    gmsh.option.setNumber("General.Terminal", 0)
-    try:
-        yield gmsh
-    finally:
-        if started:
-            gmsh.finalize()
 
 
 def _block(
@@ -172,7 +128,7 @@ def _block(
         if msh_dir is not None:
             msh_dir.mkdir(parents=True, exist_ok=True)
             gmsh.write(str(msh_dir / f"{name}.msh"))
-    mesh, cell_tags, facet_tags = gmsh_model_to_mesh(gmsh.model, comm, 0, 2, partitioner)
+    mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, 2, partitioner=partitioner)
     gmsh.model.remove()
     mesh.name = name
     return mesh, cell_tags, facet_tags

@@ -10,9 +10,7 @@ rows to copies. This module needs petsc4py and must be imported explicitly, as
 
 from __future__ import annotations
 
-import ctypes
 import types
-import typing
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -25,19 +23,14 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair
 from dolfinx_contact_s2s.kernels import numpy_backend
+from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = [
-    "SYMMETRY_TOLERANCE",
     "UNCOVERED_TOLERANCE",
     "CouplingOperator",
     "assemble_coupling",
-    "gather_dense",
-    "is_symmetric",
     "multiplier_mass",
-    "schur_complement",
-    "set_schur_indices",
 ]
 
 
@@ -288,142 +281,3 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     D = _lumped(pair, M)
     M.destroy()
     return D
-
-
-def gather_dense(A: PETSc.Mat) -> npt.NDArray[np.floating]:
-    """A distributed matrix as a dense array on every process (for small reference checks)."""
-    start, _ = A.getOwnershipRange()
-    indptr, indices, data = A.getValuesCSR()
-    parts = A.getComm().tompi4py().allgather((start, indptr, indices, data))
-    D = np.zeros(A.getSize())
-    for start, indptr, indices, data in parts:
-        rows = start + np.repeat(np.arange(indptr.size - 1), np.diff(indptr))
-        D[rows, indices] += data
-    return D
-
-
-#: Relative tolerance of :func:`is_symmetric`: far above the round-off of an assembled
-#: symmetric form, far below any asymmetry that matters to a solve.
-SYMMETRY_TOLERANCE = 1e-10
-
-
-def is_symmetric(A: PETSc.Mat, rtol: float = SYMMETRY_TOLERANCE) -> bool:
-    r"""Whether :math:`|a_{ij} - a_{ji}| \le` ``rtol`` :math:`\|\mathbf A\|_\infty` everywhere.
-
-    Each process checks the block of its own rows and columns entry by entry
-    (``MatIsSymmetric``, the structure included, no communication); the couplings
-    between processes by a random probe, :math:`|\mathbf y^T (\mathbf A - \mathbf
-    A^T) \mathbf x| \le` ``rtol`` :math:`\|\mathbf A\|_\infty \|\mathbf x\|
-    \|\mathbf y\|` (two products; PETSc's parallel ``MatIsSymmetric`` gathers the
-    off-process rows, 13 times the serial cost on 2 processes). A form is the same
-    on every element, so an asymmetric form shows in every block. Collective; the
-    same answer on every process.
-    """
-    scale = A.norm(PETSc.NormType.INFINITY)
-    if scale == 0.0:
-        return True
-    comm = A.getComm().tompi4py()
-    if comm.size == 1:
-        return bool(A.isSymmetric(rtol * scale))
-    local = bool(A.getDiagonalBlock().isSymmetric(rtol * scale))
-    x, y = A.createVecs()
-    rng = np.random.default_rng(comm.rank)
-    x.array[:] = rng.uniform(-1.0, 1.0, x.getLocalSize())
-    y.array[:] = rng.uniform(-1.0, 1.0, y.getLocalSize())
-    Ax, Ay = A.createVecLeft(), A.createVecLeft()
-    A.mult(x, Ax)
-    A.mult(y, Ay)
-    probe = abs(y.dot(Ax) - x.dot(Ay)) <= rtol * scale * x.norm() * y.norm()
-    for v in (x, y, Ax, Ay):
-        v.destroy()
-    return bool(comm.allreduce(local, op=MPI.LAND)) and bool(probe)
-
-
-# --- MUMPS's Schur complement (ICNTL(19)) --------------------------------------------
-#
-# petsc4py (3.22 to 3.25) does not expose MatFactorSetSchurIS and
-# MatFactorCreateSchurComplement: a thin binding to the PETSc library that petsc4py
-# itself loaded, through the objects' handles.
-
-
-def _petsc_library() -> ctypes.CDLL:
-    """The PETSc shared library petsc4py runs on (found in this process's mappings)."""
-    global _LIBRARY
-    if _LIBRARY is None:
-        with open("/proc/self/maps") as maps:
-            paths = {line.split()[-1] for line in maps if "libpetsc" in line and ".so" in line}
-        if not paths:
-            raise RuntimeError("the PETSc shared library is not loaded in this process")
-        library = ctypes.CDLL(sorted(paths)[0])
-        for name, argtypes in {
-            "MatFactorSetSchurIS": [ctypes.c_void_p, ctypes.c_void_p],
-            "MatFactorCreateSchurComplement": [
-                ctypes.c_void_p,
-                ctypes.POINTER(ctypes.c_void_p),
-                ctypes.POINTER(ctypes.c_int),
-            ],
-            "MatDenseGetArrayRead": [ctypes.c_void_p, ctypes.POINTER(ctypes.c_void_p)],
-            "MatDenseRestoreArrayRead": [ctypes.c_void_p, ctypes.POINTER(ctypes.c_void_p)],
-            "MatDenseGetLDA": [ctypes.c_void_p, ctypes.c_void_p],
-            "MatGetSize": [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p],
-            "MatDestroy": [ctypes.POINTER(ctypes.c_void_p)],
-        }.items():
-            function = getattr(library, name)
-            function.argtypes = argtypes
-            function.restype = ctypes.c_int
-        _LIBRARY = library
-    return _LIBRARY
-
-
-_LIBRARY: ctypes.CDLL | None = None
-
-
-def _call(name: str, *args: typing.Any) -> None:
-    code = getattr(_petsc_library(), name)(*args)
-    if code != 0:
-        raise RuntimeError(f"{name} failed with PETSc error code {code}")
-
-
-def set_schur_indices(F: PETSc.Mat, rows: PETSc.IS) -> None:
-    """Ask a MUMPS factor, before its factorization, for the Schur complement on ``rows``.
-
-    MUMPS's ICNTL(19) through ``MatFactorSetSchurIS``. In parallel PETSc wants the
-    whole (centralized) Schur complement on process 0: ``rows`` must be empty elsewhere.
-    """
-    _call("MatFactorSetSchurIS", F.handle, rows.handle)
-
-
-def schur_complement(F: PETSc.Mat) -> npt.NDArray[np.floating]:
-    r"""The dense Schur complement of a factorized MUMPS matrix, on every process.
-
-    With the rows :math:`s` set by :func:`set_schur_indices` and :math:`f` the others,
-    :math:`\mathbf A_{ss} - \mathbf A_{sf} \mathbf A_{ff}^{-1} \mathbf A_{fs}` in the
-    order of ``rows``. Symmetric factorizations (MUMPS returns one triangle) are
-    symmetrized. Collective.
-    """
-    comm = F.getComm().tompi4py()
-    S = ctypes.c_void_p()
-    status = ctypes.c_int()
-    _call("MatFactorCreateSchurComplement", F.handle, ctypes.byref(S), ctypes.byref(status))
-    try:
-        m, n, lda = (np.zeros(1, dtype=PETSc.IntType) for _ in range(3))
-        _call("MatGetSize", S, m.ctypes.data, n.ctypes.data)
-        _call("MatDenseGetLDA", S, lda.ctypes.data)
-        size, ld = int(m[0]), int(lda[0])
-        local = np.zeros((size, size))
-        if size:
-            pointer = ctypes.c_void_p()
-            _call("MatDenseGetArrayRead", S, ctypes.byref(pointer))
-            buffer = ctypes.cast(pointer, ctypes.POINTER(ctypes.c_double * (ld * size))).contents
-            # Column-major with leading dimension lda.
-            local = np.frombuffer(buffer, dtype=np.float64).reshape(size, ld)[:, :size].T.copy()
-            _call("MatDenseRestoreArrayRead", S, ctypes.byref(pointer))
-    finally:
-        _call("MatDestroy", ctypes.byref(S))
-    # Process 0 holds it (centralized); the others an empty matrix.
-    dense = comm.bcast(local if comm.rank == 0 else None, root=0)
-    lower, upper = np.tril(dense, -1), np.triu(dense, 1)
-    if lower.any() != upper.any():
-        # A symmetric factorization returns one triangle.
-        dense = lower + lower.T + upper + upper.T + np.diag(np.diag(dense))
-    return dense

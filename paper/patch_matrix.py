@@ -3,14 +3,14 @@
 r"""The paper's patch-test matrix: every discretization, multiplier, mesh and contactor.
 
 The verdicts of sections 4-5 beside the computed ones (:func:`case_record`); the cases
-are solved by :func:`dolfinx_contact_s2s.studies.patch_test.solve_patch_test`.
+are solved by :func:`paper.patch_test.solve_patch_test`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from dolfinx_contact_s2s.studies.patch_test import PatchTestCase, PatchTestSolution, errors
+from paper.patch_test import PatchTestCase, PatchTestSolution, errors
 
 __all__ = [
     "DEGREES",

@@ -227,7 +227,7 @@ def measure(lam: dolfinx.fem.Function, exact: Hertz) -> HertzMeasures:
     r"""Half-width, peak pressure and pressure error of a contact multiplier (collective).
 
     The multiplier lives on a mesh of intervals in 2D (the contactor facets of a contact
-    pair, :attr:`~dolfinx_contact_s2s.coupling.ContactPair.Q`), with a Lagrange element
+    pair, :attr:`~dolfinx_contact_s2s.pair.ContactPair.Q`), with a Lagrange element
     of any degree; :math:`x` is the horizontal coordinate, centred at the contact point.
 
     - ``p0``: the largest degree-of-freedom value.

@@ -6,15 +6,15 @@ The scene is the inf-sup model of Fig. 2 at any size: a lower block :math:`[0, 1
 \times [0, 0.5]` with :math:`10m \times 5m` bilinear quadrilaterals and an upper block
 with :math:`7m \times 3.5m` (non-matching on the contact line), overlapping by
 :math:`-g_0 = 0.01`, the lower one clamped at its bottom and the upper one at its top
-(:func:`~dolfinx_contact_s2s.studies.blocks.block_forms`, ``support="clamped"``),
+(:func:`~paper.blocks.block_forms`, ``support="clamped"``),
 composite segment-to-segment with the upper block as contactor. The meshes come from
 :func:`dolfinx.mesh.create_rectangle` rather than Gmsh, so that a scene of millions of
 cells is built in seconds and in little memory on every rank.
 
 Each size is solved either by the package's default MUMPS LU (``"lu"``) or by the
-Schur-complement field split of :mod:`dolfinx_contact_s2s.solvers` (``"iterative"``).
+Schur-complement field split of :mod:`dolfinx_contact_s2s.fieldsplit` (``"iterative"``).
 Peak memory is ``ru_maxrss``, which only grows: measure each size in a process of its
-own (``python3 -m dolfinx_contact_s2s.studies.large --unknowns 1e6 --solver lu``).
+own (``python3 -m paper.large --unknowns 1e6 --solver lu``).
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 
-from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, RIGHT, TOP, Body, PatchTestScene
-from dolfinx_contact_s2s.studies.blocks import block_problem
+from paper.blocks import block_problem
+from paper.scenes import BOTTOM, LEFT, RIGHT, TOP, Body, PatchTestScene
 
 __all__ = ["SOLVERS", "large_problem", "large_scene", "level_for", "run", "unknowns_of"]
 
@@ -100,7 +100,7 @@ def large_scene(comm: MPI.Comm, m: int) -> PatchTestScene:
 
 def large_problem(comm: MPI.Comm, m: int, solver: str, *, prefix: str = "large_") -> typing.Any:
     """The tied problem of :func:`large_scene` with ``solver`` set up (not assembled)."""
-    from dolfinx_contact_s2s.solvers import iterative_options, use_schur_complement
+    from dolfinx_contact_s2s.fieldsplit import iterative_options, use_schur_complement
 
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {SOLVERS}, not {solver!r}")

@@ -10,7 +10,7 @@ quadratic elements [...] the new algorithm (with :math:`\mathcal M^1_{h,2}`) mai
 quadratic convergence, while the node-to-segment algorithm results into only linear
 convergence." Fig. 16 plots :math:`|E - E_h|/E`, :math:`E` the strain energy.
 
-The blocks are those of :func:`~dolfinx_contact_s2s.scenes.inf_sup_model` with
+The blocks are those of :func:`~paper.scenes.inf_sup_model` with
 :math:`g_0 = 0`, tied in the normal direction (:class:`LinearContactProblem`, Eq. 18).
 The paper's negative gap serves the inf-sup test, which looks at :math:`\mathbf B`
 alone; here the load is the top displacement alone, the contact surface is known
@@ -55,8 +55,8 @@ import ufl
 
 from dolfinx_contact_s2s.convergence import richardson
 from dolfinx_contact_s2s.elasticity import epsilon
-from dolfinx_contact_s2s.scenes import BOTTOM, LEFT, RIGHT, TOP, PatchTestScene, inf_sup_model
-from dolfinx_contact_s2s.studies.blocks import MATERIALS, NAMES, block_pairs, block_spaces
+from paper.blocks import MATERIALS, NAMES, block_pairs, block_spaces
+from paper.scenes import BOTTOM, LEFT, RIGHT, TOP, PatchTestScene, inf_sup_model
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.convergence import ConvergenceTable

@@ -67,7 +67,7 @@ multipliers keep their row :math:`\lambda_k = 0`: :math:`\hat S_{kk} = 1`.
 
 Use::
 
-    from dolfinx_contact_s2s.solvers import iterative_options, use_schur_complement
+    from dolfinx_contact_s2s.fieldsplit import iterative_options, use_schur_complement
 
     problem = LinearContactProblem(
         a, L, pairs, bcs, kind="nest", petsc_options_prefix="contact_",
@@ -129,7 +129,8 @@ import numpy.typing as npt
 import scipy.linalg
 import ufl
 
-from dolfinx_contact_s2s.petsc import gather_dense, multiplier_mass
+from dolfinx_contact_s2s.assemble import multiplier_mass
+from dolfinx_contact_s2s.la import gather_dense
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.problem import LinearContactProblem

@@ -23,19 +23,19 @@ import numpy.typing as npt
 import scipy.linalg
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair
 from dolfinx_contact_s2s.elasticity import Material, stress_function
-from dolfinx_contact_s2s.scenes import Body, PatchTestScene, patch_test
-from dolfinx_contact_s2s.studies.blocks import (
+from dolfinx_contact_s2s.pair import ContactPair
+from paper.blocks import (
     MATERIALS,
     NAMES,
     block_pairs,
     block_problem,
     block_spaces,
 )
+from paper.scenes import Body, PatchTestScene, patch_test
 
 if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.stability import Solvability
+    from dolfinx_contact_s2s.analysis.dense import Solvability
 
 __all__ = [
     "PatchTestCase",
@@ -167,7 +167,7 @@ def solve_patch_test(
     A case whose constraints are rank deficient (dense SVD, Eq. 35) is reported, not
     solved.
     """
-    from dolfinx_contact_s2s.stability import solvability
+    from dolfinx_contact_s2s.analysis.dense import solvability
 
     scene = patch_test(
         comm, case.elements, cell=case.cell, geometry_degree=case.geometry_degree, gap=case.gap
@@ -310,7 +310,8 @@ def force_transfer(case: PatchTestCase) -> dict[str, npt.NDArray]:
         ``x`` of the target's contact nodes, their ``consistent`` and ``transmitted``
         vertical forces.
     """
-    from dolfinx_contact_s2s.petsc import assemble_coupling, gather_dense
+    from dolfinx_contact_s2s.assemble import assemble_coupling
+    from dolfinx_contact_s2s.la import gather_dense
 
     comm = MPI.COMM_WORLD
     scene = patch_test(comm, case.elements, cell=case.cell)

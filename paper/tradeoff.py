@@ -11,24 +11,24 @@ active set, SNES VI, penalty at several :math:`\kappa`, augmented Lagrangian) is
 on the same meshes of three scenes, and its error and wall time recorded:
 
 - ``"patch"``: the non-matching contact patch test (section 3.2, Figs. 4 and 6;
-  :mod:`~dolfinx_contact_s2s.studies.patch_test`), ``10n/7n`` elements along the
+  :mod:`~paper.patch_test`), ``10n/7n`` elements along the
   contact, solved as unilateral contact (every multiplier ends active). Errors:
   ``pressure`` :math:`\max|\lambda - p|/p` (as
-  :func:`~dolfinx_contact_s2s.studies.patch_test.errors` defines it), ``stress``
+  :func:`~paper.patch_test.errors` defines it), ``stress``
   :math:`\max|\sigma - \sigma_{exact}|/p` and ``displacement``
   :math:`\max|u - u_{exact}| / \max|u_{exact}|`.
-- ``"hertz"``: the Hertz line contact (:mod:`~dolfinx_contact_s2s.studies.hertz_study`),
+- ``"hertz"``: the Hertz line contact (:mod:`~paper.hertz.study`),
   ``n`` elements across the contact width. Errors: ``pressure_l2`` (relative
   :math:`L^2` over :math:`[-a, a]`), ``a`` and ``p0`` (relative), all read from the
-  multiplier (:func:`~dolfinx_contact_s2s.studies.hertz.measure`).
-- ``"fig16"``: the smooth variant of Fig. 16 (:mod:`~dolfinx_contact_s2s.studies.fig16`),
+  multiplier (:func:`~paper.hertz.exact.measure`).
+- ``"fig16"``: the smooth variant of Fig. 16 (:mod:`~paper.fig16`),
   the inf-sup model of Fig. 2 with :math:`g_0 = 0` under a cosine top displacement,
   nested structured quadrilaterals, ``10n/7n`` elements along the contact. It is tied
   (:class:`~dolfinx_contact_s2s.problem.LinearContactProblem`, solver ``"tied"``), as
   the study of Fig. 16 solves it: the pressure is compressive everywhere, so the tied
   solution is the unilateral one and the unilateral solvers have nothing to decide.
   Errors against the closed-form solution
-  (:class:`~dolfinx_contact_s2s.studies.fig16.SmoothSolution`): ``energy_norm``
+  (:class:`~paper.fig16.SmoothSolution`): ``energy_norm``
   :math:`\|\mathbf u - \mathbf u_h\|_E / \|\mathbf u\|_E` and ``strain_energy``
   :math:`|E - E_h|/E`, read from the displacements alone, so every discretization is
   measured (the two passes and the intermediate surface too).
@@ -59,36 +59,36 @@ import dolfinx
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s.coupling import ContactPair, contact_pairs
+from dolfinx_contact_s2s.pair import ContactPair, contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.scenes import PatchTestScene, patch_test
-from dolfinx_contact_s2s.studies.blocks import (
+from dolfinx_contact_s2s.surface import contact_surface
+from dolfinx_contact_s2s.unilateral import DEFAULT_PENALTY, UnilateralContactProblem
+from paper.blocks import (
     MATERIALS,
     NAMES,
     block_forms,
     block_pairs,
     block_spaces,
 )
-from dolfinx_contact_s2s.studies.fig16 import (
+from paper.fig16 import (
     Fig16Model,
     energy_norm_error,
     fig16_model,
     strain_energy,
 )
-from dolfinx_contact_s2s.studies.hertz import measure
-from dolfinx_contact_s2s.studies.hertz_study import HertzCase, HertzModel, hertz_model
-from dolfinx_contact_s2s.studies.patch_test import (
+from paper.hertz.exact import measure
+from paper.hertz.study import HertzCase, HertzModel, hertz_model
+from paper.patch_test import (
     PatchTestCase,
     PatchTestSolution,
     errors,
     exact_displacement,
     nodal_pressure,
 )
-from dolfinx_contact_s2s.surface import contact_surface
-from dolfinx_contact_s2s.unilateral import DEFAULT_PENALTY, UnilateralContactProblem
+from paper.scenes import PatchTestScene, patch_test
 
 if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.stability import Solvability
+    from dolfinx_contact_s2s.analysis.dense import Solvability
 
 __all__ = [
     "CELLS",

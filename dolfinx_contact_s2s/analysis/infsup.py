@@ -8,7 +8,7 @@ densely: the test costs one factorization. Beyond :data:`SCHUR_LIMIT` multiplier
 SLEPc finds the smallest eigenvalue with back-substitutions instead.
 
 The dense reference, exactly as the paper states the test, is
-:func:`dolfinx_contact_s2s.stability.inf_sup_dense`; both take any
+:func:`dolfinx_contact_s2s.analysis.dense.inf_sup_dense`; both take any
 :class:`~dolfinx_contact_s2s.problem.LinearContactProblem`. This module needs
 petsc4py (and slepc4py for :meth:`InfSupTest.solve`).
 """
@@ -21,15 +21,7 @@ import numpy as np
 import numpy.typing as npt
 import scipy.linalg
 
-from dolfinx_contact_s2s.options import PETScOptions
-from dolfinx_contact_s2s.petsc import (
-    gather_dense,
-    multiplier_mass,
-    schur_complement,
-    set_schur_indices,
-)
-from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.stability import (
+from dolfinx_contact_s2s.analysis.dense import (
     InfSup,
     assembled,
     dirichlet_free,
@@ -37,6 +29,11 @@ from dolfinx_contact_s2s.stability import (
     norm_matrices,
     stack_pairs,
 )
+from dolfinx_contact_s2s.assemble import multiplier_mass
+from dolfinx_contact_s2s.la import gather_dense
+from dolfinx_contact_s2s.mumps import schur_complement, set_schur_indices
+from dolfinx_contact_s2s.options import PETScOptions
+from dolfinx_contact_s2s.problem import LinearContactProblem
 
 __all__ = ["SCHUR_LIMIT", "InfSupTest", "inf_sup"]
 

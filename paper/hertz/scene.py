@@ -36,7 +36,7 @@ from mpi4py import MPI
 
 import dolfinx
 
-from dolfinx_contact_s2s.scenes import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
 
 __all__ = ["GRADING", "TAGS", "HertzScene", "hertz"]
 
@@ -316,7 +316,7 @@ def hertz(
             (the strain energy) refines it with ``h``.
         rank: Rank that builds the Gmsh model.
         partitioner: Cell partitioner of the mesh (see
-            :func:`dolfinx_contact_s2s.scenes.model_to_mesh`); None: DOLFINx's.
+            :func:`dolfinx_contact_s2s.meshing.model_to_mesh`); None: DOLFINx's.
 
     Returns:
         The scene; facet tags in :data:`TAGS` (``"lower_sides"`` marks no facet for a
