@@ -20,7 +20,7 @@ exactly (Eq. 36). The errors are measured against the round-off bound of the sol
 (:func:`~dolfinx_contact_s2s.analysis.roundoff.round_off_bound`): a ratio above 1 is a defect.
 
 :func:`cases` is the Hypothesis strategy of these cases (Hypothesis is imported when it
-is called); ``tests/test_fuzz.py`` runs a few dozen and ``demos/fuzz_patch_test.py``
+is called); ``tests/reproductions/test_fuzz.py`` runs a few dozen and ``demos/fuzz_patch_test.py``
 thousands.
 """
 

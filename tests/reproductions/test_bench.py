@@ -19,7 +19,7 @@ from mpi4py import MPI
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 #: Script -> the records it writes.
 SCRIPTS = {

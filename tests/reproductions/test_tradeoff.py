@@ -4,7 +4,7 @@
 
 Only facts from outside the code are asserted, never a time: every record complete
 (keys, finite numbers), the patch-test verdicts of the paper in the study's records
-(the verdicts themselves, case by case, are tested in tests/test_patch_matrix.py; here
+(the verdicts themselves, case by case, are tested in tests/reproductions/test_patch_matrix.py; here
 they check that the study measures what the patch-test machinery measures), the
 penalty error falling as the penalty factor grows, Fig. 16's claim that S2S beats
 node-to-segment on quadratic elements, and the same errors in serial and in parallel.
