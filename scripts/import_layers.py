@@ -117,8 +117,12 @@ def layers(graph: dict[str, set[str]], circles: list[list[str]]) -> dict[str, in
 def main() -> int:
     """Print the layers, circles and sizes; with ``--check``, fail on a violation."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--root", default=pathlib.Path(__file__).resolve().parents[1], type=pathlib.Path)
-    parser.add_argument("--check", action="store_true", help="exit 1 on a circle or a size over the limits")
+    parser.add_argument(
+        "--root", default=pathlib.Path(__file__).resolve().parents[1], type=pathlib.Path
+    )
+    parser.add_argument(
+        "--check", action="store_true", help="exit 1 on a circle or a size over the limits"
+    )
     parser.add_argument("--max-lines", type=int, default=600, help="longest module allowed")
     parser.add_argument("--max-total", type=int, default=10000, help="longest library allowed")
     args = parser.parse_args()
@@ -132,14 +136,19 @@ def main() -> int:
     lines = {name: len(path.read_text().splitlines()) for name, path in names.items()}
 
     short = {name: name.removeprefix(PACKAGE + ".") for name in names}
-    print(f"{PACKAGE}: {len(names)} modules, {sum(lines.values())} lines, "
-          f"{max(layer.values()) + 1} layers")
+    print(
+        f"{PACKAGE}: {len(names)} modules, {sum(lines.values())} lines, "
+        f"{max(layer.values()) + 1} layers"
+    )
     for level in range(max(layer.values()), -1, -1):
         members = sorted(m for m in names if layer[m] == level)
         print(f"  layer {level:2d}: " + ", ".join(f"{short[m]} ({lines[m]})" for m in members))
     print("circles: " + ("; ".join(" <-> ".join(short[m] for m in c) for c in circles) or "none"))
     upward = sorted((short[a], short[b]) for a in graph for b in graph[a] if layer[b] >= layer[a])
-    print("imports from a layer up or sideways: " + (", ".join(f"{a} -> {b}" for a, b in upward) or "none"))
+    print(
+        "imports from a layer up or sideways: "
+        + (", ".join(f"{a} -> {b}" for a, b in upward) or "none")
+    )
     largest = max(lines, key=lines.get)
     print(f"largest module: {short[largest]} ({lines[largest]} lines)")
     too_long = sorted(short[m] for m in lines if lines[m] > args.max_lines)
