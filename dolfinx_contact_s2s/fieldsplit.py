@@ -379,7 +379,7 @@ def _concatenate(comm: MPI.Comm, sets: list[PETSc.IS]) -> PETSc.IS:
 class SchurComplementSetup:
     r"""Installs the two-split Schur preconditioner on a problem's solver.
 
-    Set as ``problem.solver_setup``; :func:`use_schur_complement` does. Called after the
+    Installed by :func:`use_schur_complement` (``problem.set_solver_setup``). Called after the
     problem configured its solver for a new system: when the options select
     ``-pc_fieldsplit_type schur``, it replaces the problem's named fields by the two
     splits ``u`` (every ``u*`` field) and ``lambda`` (every ``lambda*`` field) and
@@ -431,15 +431,23 @@ class SchurComplementSetup:
 def use_schur_complement(problem: LinearContactProblem) -> SchurComplementSetup:
     """Solve ``problem`` with the Schur-complement field split of its options.
 
-    Sets ``problem.kind = "nest"`` and ``problem.solver_setup``; call before
+    The problem must have been created with ``kind="nest"``; this installs the setup
+    (``problem.set_solver_setup``) and changes nothing else. Call before
     :meth:`~dolfinx_contact_s2s.problem.LinearContactProblem.solve` (or ``assemble``),
     with the options of :func:`iterative_options`. The setup's matrices are destroyed
     with the next system or by its :meth:`SchurComplementSetup.destroy`.
 
     Returns:
         The installed setup.
+
+    Raises:
+        ValueError: If the problem was not created with ``kind="nest"``.
     """
+    if problem.kind != "nest":
+        raise ValueError(
+            "use_schur_complement needs a problem created with kind='nest', not "
+            f"kind={problem.kind!r}"
+        )
     setup = SchurComplementSetup()
-    problem.kind = "nest"
-    problem.solver_setup = setup
+    problem.set_solver_setup(setup)
     return setup

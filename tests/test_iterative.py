@@ -49,6 +49,7 @@ def _solve(scene, n, solver, schur="fractional"):
         support="clamped",
         petsc_options_prefix=f"it_{solver}_{schur}_",
         petsc_options=options,
+        kind="nest" if solver == "iterative" else "aij",
         search_radius=abs(scene.gap) + scene.width / (7 * n),
     )
     with problem:
@@ -125,7 +126,13 @@ def test_one_space_two_bodies():
     for solver in ("iterative", "lu"):
         options = iterative_options(spaces=1) if solver == "iterative" else None
         with LinearContactProblem(
-            a, L, [pair], bcs, petsc_options_prefix=f"one_{solver}_", petsc_options=options
+            a,
+            L,
+            [pair],
+            bcs,
+            petsc_options_prefix=f"one_{solver}_",
+            petsc_options=options,
+            kind="nest" if solver == "iterative" else "aij",
         ) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)
@@ -187,7 +194,13 @@ def test_overhang_inactive_multipliers():
     for solver in ("iterative", "lu"):
         options = iterative_options(spaces=2) if solver == "iterative" else None
         with LinearContactProblem(
-            a, L, [pair], bcs, petsc_options_prefix=f"over_{solver}_", petsc_options=options
+            a,
+            L,
+            [pair],
+            bcs,
+            petsc_options_prefix=f"over_{solver}_",
+            petsc_options=options,
+            kind="nest" if solver == "iterative" else "aij",
         ) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)
