@@ -23,7 +23,7 @@ from petsc4py import PETSc
 import dolfinx
 import ufl
 
-from dolfinx_contact_s2s import checks
+from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s.assemble import CouplingOperator
 from dolfinx_contact_s2s.options import PETScOptions
 from dolfinx_contact_s2s.pair import ContactPair
@@ -218,7 +218,9 @@ class ContactProblemBase:
 
     def residual(self) -> float:
         r"""Relative residual :math:`\|\mathbf b - \mathbf A \mathbf x\|_2 / \|\mathbf b\|_2`."""
-        return self._system.residual()
+        system = self._system
+        assert system.A is not None and system.b is not None and system.x is not None
+        return system_checks.relative_residual(system.A, system.b, system.x)
 
     def backward_error(self) -> float:
         r"""Normwise backward error of the last solve (Rigal-Gaches).
@@ -229,7 +231,9 @@ class ContactProblemBase:
         exact solution. Collective. Needs the assembled saddle point (``kind="aij"``):
         ``inf`` for a ``"nest"`` matrix.
         """
-        return self._system.backward_error()
+        system = self._system
+        assert system.A is not None and system.b is not None and system.x is not None
+        return system_checks.backward_error(system.A, system.b, system.x)
 
     def contact_forces(self) -> list[dolfinx.fem.Function]:
         r"""Nodal contact force on every space, :math:`\sum_j \mathbf B_{j}^T \Lambda_j`.
@@ -237,7 +241,20 @@ class ContactProblemBase:
         Call after ``solve``. Includes the forces at Dirichlet dofs (taken by the
         supports).
         """
-        return self._system.contact_forces()
+        system = self._system
+        forces = [
+            dolfinx.fem.Function(V, name=f"contact_force{i}") for i, V in enumerate(self.spaces)
+        ]
+        for op, lam in zip(system.operators, system.multipliers, strict=True):
+            for V, B in op.blocks:
+                f = forces[system.space_index(V)]
+                y = B.createVecRight()
+                B.multTranspose(lam.x.petsc_vec, y)
+                f.x.array[: y.getLocalSize()] += y.array_r
+                y.destroy()
+        for f in forces:
+            f.x.scatter_forward()
+        return forces
 
     def destroy(self) -> None:
         """Destroy the PETSc objects and remove the problem's options from the database."""

@@ -35,7 +35,6 @@ import ufl
 from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
-from dolfinx_contact_s2s.la import is_symmetric
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
     PETScOptions,
@@ -73,12 +72,6 @@ def add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
 
 def _as_list(forms: typing.Any) -> list:
     return list(forms) if isinstance(forms, Sequence) else [forms]
-
-
-def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool:
-    # bc.function_space is a C++ space in some DOLFINx versions, a Python one in others.
-    W = bc.function_space
-    return V._cpp_object.contains(getattr(W, "_cpp_object", W))
 
 
 def _create_vector(V: dolfinx.fem.FunctionSpace) -> PETSc.Vec:
@@ -158,18 +151,7 @@ class ContactSystem:
                 infinite coordinates.
         """
         a, L = _as_list(a), _as_list(L)
-        if len(a) != len(L) or not a:
-            raise ValueError("give one bilinear and one linear form per displacement space")
-        if kind not in ("aij", "nest"):
-            raise ValueError(f"kind must be 'aij' or 'nest', not {kind!r}")
-        self.spaces: list[dolfinx.fem.FunctionSpace] = []
-        for ai, Li in zip(a, L, strict=True):
-            test, trial = (arg.ufl_function_space() for arg in ai.arguments())
-            if test is not trial or Li.arguments()[0].ufl_function_space() is not test:
-                raise ValueError("each a and L must share one displacement space")
-            if any(test is V for V in self.spaces):
-                raise ValueError("each displacement space may carry only one form a")
-            self.spaces.append(test)
+        self.spaces = system_checks.check_forms(a, L, kind)
         self.comm: MPI.Comm = self.spaces[0].mesh.comm
         system_checks.check_coordinates(self.spaces)
         options = {"form_compiler_options": form_compiler_options, "jit_options": jit_options}
@@ -178,9 +160,7 @@ class ContactSystem:
         self.pairs = list(pairs)
         system_checks.check_pairs(self.pairs, self.space_index)
         self.bcs = list(bcs)
-        self.bcs_by_space = [[bc for bc in self.bcs if _contains(V, bc)] for V in self.spaces]
-        if sum(len(b) for b in self.bcs_by_space) != len(self.bcs):
-            raise ValueError("a Dirichlet condition is on none of the problem's spaces")
+        self.bcs_by_space = system_checks.bcs_by_space(self.spaces, self.bcs)
         self.kind = kind
         self.residual_tolerance = float(residual_tolerance)
         #: Times a MUMPS workspace error is met by doubling ICNTL(14) before raising.
@@ -394,7 +374,7 @@ class ContactSystem:
                 dolfinx.fem.petsc.set_bc(F, bcs)
             system_checks.check_finite(self._K, self._loads)
         with self.timed("system"):
-            self._decide_symmetry()
+            self.symmetric = system_checks.all_symmetric(self._K)
             self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
             self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
             self._owned.extend(self._masks + self._values)
@@ -422,18 +402,6 @@ class ContactSystem:
                     self.pairs, self.operators, self._masks, self.space_index
                 )
         self.build()
-
-    def _decide_symmetry(self) -> None:
-        r"""Set :attr:`symmetric` from the assembled :math:`\mathbf K` (collective)."""
-        flags = [is_symmetric(K) for K in self._K]
-        self.symmetric = all(flags)
-        if not self.symmetric:
-            spaces = ", ".join(str(i) for i, f in enumerate(flags) if not f)
-            logger.info(
-                "K of space(s) %s is not symmetric: the saddle point is factorized by "
-                "LU, not LDL^T",
-                spaces,
-            )
 
     def build(
         self, released: Sequence[npt.NDArray[np.int64]] | None = None, load: float = 1.0
@@ -617,32 +585,6 @@ class ContactSystem:
             f.x.array[: sub.getLocalSize()] = sub.array_r
             self.x.restoreSubVector(is_, sub)
             f.x.scatter_forward()
-
-    def residual(self) -> float:
-        r"""Relative residual :math:`\|\mathbf b - \mathbf A \mathbf x\|_2 / \|\mathbf b\|_2`."""
-        assert self.A is not None and self.b is not None and self.x is not None
-        return system_checks.relative_residual(self.A, self.b, self.x)
-
-    def backward_error(self) -> float:
-        """Normwise backward error of the last solve (:func:`.system_checks.backward_error`)."""
-        assert self.A is not None and self.b is not None and self.x is not None
-        return system_checks.backward_error(self.A, self.b, self.x)
-
-    def contact_forces(self) -> list[dolfinx.fem.Function]:
-        r"""Nodal contact force on every space, :math:`\sum_j \mathbf B_{j}^T \Lambda_j`."""
-        forces = [
-            dolfinx.fem.Function(V, name=f"contact_force{i}") for i, V in enumerate(self.spaces)
-        ]
-        for op, lam in zip(self.operators, self.multipliers, strict=True):
-            for V, B in op.blocks:
-                f = forces[self.space_index(V)]
-                y = B.createVecRight()
-                B.multTranspose(lam.x.petsc_vec, y)
-                f.x.array[: y.getLocalSize()] += y.array_r
-                y.destroy()
-        for f in forces:
-            f.x.scatter_forward()
-        return forces
 
     def destroy(self) -> None:
         """Destroy the PETSc objects and remove the options from the database."""

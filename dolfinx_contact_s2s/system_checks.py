@@ -2,11 +2,12 @@
 # SPDX-License-Identifier: MIT
 r"""The checks of a contact system (Eq. 18), at set-up and after every solve.
 
-At set-up: finite mesh coordinates and finite :math:`\mathbf K` and :math:`\mathbf F`,
-pairs on the problem's spaces with one pair per contactor, the support of every body
-(Eq. 33) and the rank of the constraints (Eq. 35). After a solve: the relative residual,
-else the normwise backward error (:func:`check_solve`). Each raises on every rank with
-the cause named. Package-internal: used by :class:`~dolfinx_contact_s2s.system.ContactSystem`.
+At set-up: consistent forms and Dirichlet conditions, finite mesh coordinates and finite
+:math:`\mathbf K` and :math:`\mathbf F`, pairs on the problem's spaces with one pair per
+contactor, the support of every body (Eq. 33) and the rank of the constraints (Eq. 35).
+After a solve: the relative residual, else the normwise backward error
+(:func:`check_solve`). Each raises on every rank with the cause named. Package-internal:
+used by :class:`~dolfinx_contact_s2s.system.ContactSystem`.
 
 This module needs petsc4py and must be imported explicitly.
 """
@@ -23,17 +24,22 @@ from petsc4py import PETSc
 import dolfinx
 import numpy as np
 import numpy.typing as npt
+import ufl
 
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s.assemble import CouplingOperator
+from dolfinx_contact_s2s.la import is_symmetric
 from dolfinx_contact_s2s.options import solver_failure
 from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = [
     "BACKWARD_TOLERANCE",
+    "all_symmetric",
     "backward_error",
+    "bcs_by_space",
     "check_coordinates",
     "check_finite",
+    "check_forms",
     "check_pairs",
     "check_redundancy",
     "check_solve",
@@ -60,6 +66,39 @@ def _dof_coordinates(Q: dolfinx.fem.FunctionSpace) -> npt.NDArray[np.floating]:
     out = np.zeros((imap.size_global, 3))
     for start, xs in Q.mesh.comm.allgather((imap.local_range[0], x)):
         out[start : start + xs.shape[0]] = xs
+    return out
+
+
+def check_forms(a: list[ufl.Form], L: list[ufl.Form], kind: str) -> list[dolfinx.fem.FunctionSpace]:
+    """The displacement space of each pair of forms; raise for inconsistent forms or kind."""
+    if len(a) != len(L) or not a:
+        raise ValueError("give one bilinear and one linear form per displacement space")
+    if kind not in ("aij", "nest"):
+        raise ValueError(f"kind must be 'aij' or 'nest', not {kind!r}")
+    spaces: list[dolfinx.fem.FunctionSpace] = []
+    for ai, Li in zip(a, L, strict=True):
+        test, trial = (arg.ufl_function_space() for arg in ai.arguments())
+        if test is not trial or Li.arguments()[0].ufl_function_space() is not test:
+            raise ValueError("each a and L must share one displacement space")
+        if any(test is V for V in spaces):
+            raise ValueError("each displacement space may carry only one form a")
+        spaces.append(test)
+    return spaces
+
+
+def _contains(V: dolfinx.fem.FunctionSpace, bc: dolfinx.fem.DirichletBC) -> bool:
+    # bc.function_space is a C++ space in some DOLFINx versions, a Python one in others.
+    W = bc.function_space
+    return V._cpp_object.contains(getattr(W, "_cpp_object", W))
+
+
+def bcs_by_space(
+    spaces: Sequence[dolfinx.fem.FunctionSpace], bcs: Sequence[dolfinx.fem.DirichletBC]
+) -> list[list[dolfinx.fem.DirichletBC]]:
+    """The Dirichlet conditions of each space; raise if one is on none of them."""
+    out = [[bc for bc in bcs if _contains(V, bc)] for V in spaces]
+    if sum(len(b) for b in out) != len(bcs):
+        raise ValueError("a Dirichlet condition is on none of the problem's spaces")
     return out
 
 
@@ -91,6 +130,18 @@ def check_pairs(pairs: Sequence[ContactPair], space_index: SpaceIndex) -> None:
                 "all its targets to one pair, contact_pair(contactor, [target_a, target_b])"
             )
         seen[key] = j
+
+
+def all_symmetric(stiffness: Sequence[PETSc.Mat]) -> bool:
+    r"""Whether every assembled :math:`\mathbf K` is symmetric (collective); logs which not."""
+    flags = [is_symmetric(K) for K in stiffness]
+    if not all(flags):
+        spaces = ", ".join(str(i) for i, f in enumerate(flags) if not f)
+        logger.info(
+            "K of space(s) %s is not symmetric: the saddle point is factorized by LU, not LDL^T",
+            spaces,
+        )
+    return all(flags)
 
 
 def check_finite(stiffness: Sequence[PETSc.Mat], loads: Sequence[PETSc.Vec]) -> None:
