@@ -148,6 +148,22 @@ def test_one_space_two_bodies():
     assert _max(results[0] - results[1]) <= TOLERANCE * scale
 
 
+def test_schur_complement_needs_a_nest_problem():
+    """use_schur_complement configures the solver only: the kind is given at construction."""
+    scene = scenes.inf_sup_model(comm, (2, 2))
+    with block_problem(
+        scene,
+        (1, 1),
+        "upper",
+        support="clamped",
+        petsc_options_prefix="it_aij_",
+        search_radius=0.5,
+    ) as problem:
+        with pytest.raises(ValueError, match="kind='nest'"):
+            use_schur_complement(problem)
+        assert problem.kind == "aij"
+
+
 def test_bad_options():
     with pytest.raises(ValueError, match="schur must be one of"):
         iterative_options(schur="lumped")
