@@ -55,9 +55,10 @@ DEFAULT_PENALTY = {
 class UnilateralContactProblem(ContactProblemBase):
     r"""Linear elastic bodies in frictionless unilateral contact (Eq. 1).
 
-    The problem of :class:`~dolfinx_contact_s2s.problem.LinearContactProblem` (its public
-    attributes, read from the system it holds), with the
-    tied rows of Eq. (18) replaced by the conditions of Eq. (1) on the weighted gaps.
+    The problem of :class:`~dolfinx_contact_s2s.problem.LinearContactProblem` (the same
+    public attributes, read from the :class:`~dolfinx_contact_s2s.system.ContactSystem` it
+    holds), with the tied rows of Eq. (18) replaced by the conditions of Eq. (1) on the
+    weighted gaps.
     :meth:`solve` takes a list of load factors (each scales the loads ``L`` and the
     Dirichlet values; the gaps :math:`g_0` stay) and starts every step from the
     previous step's active set.
