@@ -27,10 +27,10 @@ class Iteration:
         active: Number of active multipliers of each pair (over all processes).
         entered: Multipliers that became active at this solve's update.
         left: Multipliers that became inactive at this solve's update.
-        residual: Lagrange-multiplier algorithms: :math:`\\max_j |C_j|` over all pairs,
-            relative to the larger of :math:`\\max|\\lambda|` and :math:`\\max|c \\tilde
-            g|`. Penalty algorithms: the change of :math:`\\lambda` since the previous
-            solve, relative to :math:`\\max|\\lambda|`.
+        residual: Lagrange-multiplier algorithms: :math:`\max_j |C_j|` over all pairs,
+            relative to the larger of :math:`\max|\lambda|` and :math:`\max|c \tilde
+            g|`. Penalty algorithms: the change of :math:`\lambda` since the previous
+            solve, relative to :math:`\max|\lambda|`.
         active_sets: Per pair, the global indices of this process's active multipliers
             in this solve.
         outer: Uzawa update this solve belongs to (augmented Lagrangian), else 0.

@@ -31,7 +31,7 @@ __all__ = ["solve_step"]
 def _relative_change(
     comm: MPI.Comm, new: npt.NDArray[np.floating], old: npt.NDArray[np.floating]
 ) -> float:
-    r""":math:`\\max|new - old| / \\max|new|` over all processes (0 if both vanish)."""
+    r""":math:`\max|new - old| / \max|new|` over all processes (0 if both vanish)."""
     change = comm.allreduce(float(np.max(np.abs(new - old), initial=0.0)), op=MPI.MAX)
     size = comm.allreduce(float(np.max(np.abs(new), initial=0.0)), op=MPI.MAX)
     return change / size if size > 0 else change

@@ -107,13 +107,13 @@ class UnilateralContactProblem(ContactProblemBase):
             petsc_options: Options under the prefix.
             algorithm: One of :data:`ALGORITHMS`.
             start: First active set, one of :data:`STARTS`.
-            penalty: Factor :math:`\\kappa` of :math:`\varepsilon = \\kappa \bar E / h`;
+            penalty: Factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`;
                 defaults to :data:`DEFAULT_PENALTY` of the algorithm.
             max_iterations: Largest number of linear solves per load step (of Uzawa
                 updates, for the augmented Lagrangian).
             tolerance: Largest relative complementarity residual of a converged solve;
                 for the augmented Lagrangian, also the largest relative change of
-                :math:`\\lambda` at the last update.
+                :math:`\lambda` at the last update.
             kind: ``"aij"`` or ``"nest"`` (not with ``"snes-vi"``, which extracts
                 reduced matrices).
             residual_tolerance: Largest relative residual of every linear solve.
