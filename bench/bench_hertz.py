@@ -8,16 +8,14 @@ unknowns, solved by the primal-dual active-set method (semismooth Newton), every
 iteration one saddle-point solve. The contact-specific time is the contact surfaces and
 the pair (with its multiplier space), the search, segmentation and coupling
 (``timings["contact"]``) and the active-set update of every iteration (weighted gaps,
-complementarity function, new active set, released multipliers), measured by wrapping
-the problem's own methods; the whole is the set-up (without Gmsh) and the solve.
-Both are also reported per iteration. Goal: <= 5%.
+complementarity function, new active set, released multipliers), the problem's
+``update_seconds``; the whole is the set-up (without Gmsh) and the solve. Both are also
+reported per iteration, read by the problem's ``monitor``. Goal: <= 5%.
 
 Writes ``results/bench/p2_share_hertz.json``.
 """
 
 import argparse
-import functools
-import time
 from pathlib import Path
 
 from mpi4py import MPI
@@ -50,6 +48,18 @@ case = (
 with log.step(f"Hertz scene, {case.elements_across} elements across the contact (Gmsh)"):
     model, t_model = timed(comm, lambda: hertz_model(case, comm))
 pair, t_pair = timed(comm, model.pair)
+per_iteration: list[dict] = []
+
+
+def snapshot(iteration):
+    """After each solve: the cumulative stage times, to difference per iteration."""
+    per_iteration.append({"update": problem.update_seconds, **problem.timings})
+    log(
+        f"  iteration {len(per_iteration)}: active {iteration.active}, +{iteration.entered} "
+        f"-{iteration.left}, residual {iteration.residual:.1e}"
+    )
+
+
 problem, t_problem = timed(
     comm,
     lambda: UnilateralContactProblem(
@@ -60,53 +70,17 @@ problem, t_problem = timed(
         petsc_options_prefix="bench_hertz_",
         algorithm="active-set",
         max_iterations=200,
+        monitor=snapshot,
     ),
 )
 unknowns = model.V.dofmap.index_map.size_global * 2 + pair.Q.dofmap.index_map.size_global
 log(f"  {unknowns} unknowns, backend {backend_name(pair.contactor)}")
 
-# The active-set update: wrap the problem's own steps (on this instance only).
-update = {"seconds": 0.0}
-per_iteration: list[dict] = []
-
-
-def timing(method):
-    """``method`` with its wall time added to the update time."""
-
-    @functools.wraps(method)
-    def wrapper(*a, **k):
-        begin = time.perf_counter()
-        try:
-            return method(*a, **k)
-        finally:
-            update["seconds"] += time.perf_counter() - begin
-
-    return wrapper
-
-
-for name in ("_weighted_gaps", "_complementarity", "_update", "_released", "_first_active"):
-    setattr(problem, name, timing(getattr(problem, name)))
-record_iteration = problem._record
-
-
-def snapshot(*a, **k):
-    """After each solve: the cumulative stage times, to difference per iteration."""
-    record_iteration(*a, **k)
-    per_iteration.append({"update": update["seconds"], **problem.timings})
-    last = problem.history.steps[-1].iterations[-1]
-    log(
-        f"  iteration {len(per_iteration)}: active {last.active}, +{last.entered} "
-        f"-{last.left}, residual {last.residual:.1e}"
-    )
-
-
-problem._record = snapshot
-
 with log.step("active-set (semismooth Newton) solve"):
     _, t_solve = timed(comm, problem.solve)
 iterations = problem.history.iterations
 stages = {k: comm.allreduce(v, op=MPI.MAX) for k, v in problem.timings.items()}
-t_update = comm.allreduce(update["seconds"], op=MPI.MAX)
+t_update = comm.allreduce(problem.update_seconds, op=MPI.MAX)
 rows, previous = [], {"update": 0.0, **dict.fromkeys(stages, 0.0)}
 for snap in per_iteration:
     delta = {k: snap[k] - previous[k] for k in snap}

@@ -133,7 +133,8 @@ from dolfinx_contact_s2s.assemble import multiplier_mass
 from dolfinx_contact_s2s.la import gather_dense
 
 if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.problem import LinearContactProblem
+    from dolfinx_contact_s2s.problem import ContactProblemBase, LinearContactProblem
+    from dolfinx_contact_s2s.system import ContactSystem
 
 __all__ = [
     "SCHUR_PRECONDITIONERS",
@@ -208,7 +209,7 @@ def iterative_options(
     return options
 
 
-def _split_numbering(problem: LinearContactProblem) -> list[npt.NDArray[np.int64]]:
+def _split_numbering(problem: LinearContactProblem | ContactSystem) -> list[npt.NDArray[np.int64]]:
     """Per pair, the index in the ``lambda`` split of each global multiplier dof."""
     comm = problem.comm
     maps = [pair.Q.dofmap.index_map for pair in problem.pairs]
@@ -230,7 +231,7 @@ def _split_numbering(problem: LinearContactProblem) -> list[npt.NDArray[np.int64
     return out
 
 
-def _inactive(problem: LinearContactProblem, j: int) -> npt.NDArray[np.bool_]:
+def _inactive(problem: LinearContactProblem | ContactSystem, j: int) -> npt.NDArray[np.bool_]:
     r"""Multipliers of pair ``j`` whose row reads :math:`\lambda_k = 0` (on every process)."""
     assert problem.A is not None
     nb = len(problem.spaces)
@@ -247,7 +248,7 @@ def _inactive(problem: LinearContactProblem, j: int) -> npt.NDArray[np.bool_]:
     return out
 
 
-def _stiffness_scale(problem: LinearContactProblem, j: int) -> float:
+def _stiffness_scale(problem: LinearContactProblem | ContactSystem, j: int) -> float:
     r"""Compliance :math:`1/c` of the contact line of pair ``j`` (see the module docstring).
 
     A half-plane opens a gap :math:`2/(E^* k)` under a unit traction of wavenumber
@@ -286,7 +287,7 @@ def _line_length(pair: typing.Any) -> float:
 
 
 def _pair_block(
-    problem: LinearContactProblem, j: int, schur: str
+    problem: LinearContactProblem | ContactSystem, j: int, schur: str
 ) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.bool_]]:
     r"""Dense block of pair ``j`` (global dofs): :math:`\hat S^{-1}` or :math:`\hat S`."""
     pair = problem.pairs[j]
@@ -319,11 +320,14 @@ def _pair_block(
     return block, inactive
 
 
-def schur_approximation(problem: LinearContactProblem, schur: str = "fractional") -> PETSc.Mat:
+def schur_approximation(
+    problem: LinearContactProblem | ContactSystem, schur: str = "fractional"
+) -> PETSc.Mat:
     r"""The multiplier-block preconditioner of an assembled problem, in the ``lambda`` split.
 
     Args:
-        problem: An assembled :class:`~dolfinx_contact_s2s.problem.LinearContactProblem`.
+        problem: An assembled :class:`~dolfinx_contact_s2s.problem.LinearContactProblem`,
+            or its :class:`~dolfinx_contact_s2s.system.ContactSystem`.
         schur: ``"fractional"``: :math:`\hat{\mathbf S}^{-1}` (apply by multiplication,
             ``-fieldsplit_lambda_pc_type mat``); ``"mass"``: :math:`\hat{\mathbf S}`
             (a matrix to precondition, e.g. with Jacobi).
@@ -379,7 +383,7 @@ def _concatenate(comm: MPI.Comm, sets: list[PETSc.IS]) -> PETSc.IS:
 class SchurComplementSetup:
     r"""Installs the two-split Schur preconditioner on a problem's solver.
 
-    Set as ``problem.solver_setup``; :func:`use_schur_complement` does. Called after the
+    Installed by :func:`use_schur_complement` (``problem.set_solver_setup``). Called after the
     problem configured its solver for a new system: when the options select
     ``-pc_fieldsplit_type schur``, it replaces the problem's named fields by the two
     splits ``u`` (every ``u*`` field) and ``lambda`` (every ``lambda*`` field) and
@@ -397,8 +401,8 @@ class SchurComplementSetup:
             obj.destroy()
         self._owned = []
 
-    def __call__(self, problem: LinearContactProblem) -> None:
-        """Configure the solver of ``problem`` (collective)."""
+    def __call__(self, problem: ContactSystem) -> None:
+        """Configure the solver of the system ``problem`` holds (collective)."""
         pc = problem.solver.getPC()
         if (
             pc.getType() != "fieldsplit"
@@ -428,18 +432,26 @@ class SchurComplementSetup:
         self._owned = [S] + [s for s in (u, lam) if all(s is not f for f in fields.values())]
 
 
-def use_schur_complement(problem: LinearContactProblem) -> SchurComplementSetup:
+def use_schur_complement(problem: ContactProblemBase) -> SchurComplementSetup:
     """Solve ``problem`` with the Schur-complement field split of its options.
 
-    Sets ``problem.kind = "nest"`` and ``problem.solver_setup``; call before
+    The problem must have been created with ``kind="nest"``; this installs the setup
+    (``problem.set_solver_setup``) and changes nothing else. Call before
     :meth:`~dolfinx_contact_s2s.problem.LinearContactProblem.solve` (or ``assemble``),
     with the options of :func:`iterative_options`. The setup's matrices are destroyed
     with the next system or by its :meth:`SchurComplementSetup.destroy`.
 
     Returns:
         The installed setup.
+
+    Raises:
+        ValueError: If the problem was not created with ``kind="nest"``.
     """
+    if problem.kind != "nest":
+        raise ValueError(
+            "use_schur_complement needs a problem created with kind='nest', not "
+            f"kind={problem.kind!r}"
+        )
     setup = SchurComplementSetup()
-    problem.kind = "nest"
-    problem.solver_setup = setup
+    problem.set_solver_setup(setup)
     return setup

@@ -63,6 +63,7 @@ __all__ = [
     "pipeline_child",
     "record_problems",
     "solver_description",
+    "solver_kind",
     "solver_options",
     "timed",
     "two_blocks",
@@ -318,11 +319,17 @@ def solver_options(name: str, spaces: int = 2) -> dict[str, typing.Any] | None:
     raise ValueError(f"unknown solver {name!r}: 'default', 'lu', 'ldlt' or 'iterative'")
 
 
+def solver_kind(name: str) -> str:
+    """The problem's ``kind`` for the solver called ``name``: ``"nest"`` for the iterative one."""
+    return "nest" if name == "iterative" else "aij"
+
+
 def configure_solver(problem: typing.Any, name: str) -> None:
     """What a solver needs on the problem besides its options (before it is assembled).
 
     The iterative solver installs its Schur-complement set-up
-    (``dolfinx_contact_s2s.fieldsplit.use_schur_complement``); the direct ones need nothing.
+    (``dolfinx_contact_s2s.fieldsplit.use_schur_complement``, on a problem created with
+    ``kind=solver_kind(name)``); the direct ones need nothing.
     """
     if name != "iterative":
         return
@@ -497,6 +504,7 @@ class TwoBlocks:
             [*bcs, *extra],
             petsc_options_prefix="bench_dirichlet_",
             petsc_options=solver_options(solver, spaces=2),
+            kind=solver_kind(solver),
         )
         configure_solver(problem, solver)
         return problem
@@ -562,6 +570,7 @@ def two_blocks(
             forms[2],
             petsc_options_prefix=prefix,
             petsc_options=options,
+            kind=solver_kind(solver),
         ),
     )
     configure_solver(problem, solver)

@@ -127,9 +127,13 @@ def block_problem(
     pressure: float = 0.0,
     petsc_options_prefix: str,
     petsc_options: dict | None = None,
+    kind: str = "aij",
     **pair_options: typing.Any,
 ) -> LinearContactProblem:
-    """The tied contact problem (Eq. 18) of the two blocks, not yet assembled."""
+    """The tied contact problem (Eq. 18) of the two blocks, not yet assembled.
+
+    ``kind`` is passed to the problem (``"nest"`` for a field-split solver).
+    """
     from dolfinx_contact_s2s.problem import LinearContactProblem
 
     spaces = block_spaces(scene, degrees)
@@ -142,4 +146,5 @@ def block_problem(
         bcs,
         petsc_options_prefix=petsc_options_prefix,
         petsc_options=petsc_options,
+        kind=kind,
     )

@@ -113,6 +113,7 @@ def large_problem(comm: MPI.Comm, m: int, solver: str, *, prefix: str = "large_"
         support="clamped",
         petsc_options_prefix=prefix,
         petsc_options=options,
+        kind="nest" if solver == "iterative" else "aij",
         search_radius=abs(_GAP) + _WIDTH / (7 * m),
     )
     if solver == "iterative":

@@ -49,6 +49,7 @@ def _solve(scene, n, solver, schur="fractional"):
         support="clamped",
         petsc_options_prefix=f"it_{solver}_{schur}_",
         petsc_options=options,
+        kind="nest" if solver == "iterative" else "aij",
         search_radius=abs(scene.gap) + scene.width / (7 * n),
     )
     with problem:
@@ -125,7 +126,13 @@ def test_one_space_two_bodies():
     for solver in ("iterative", "lu"):
         options = iterative_options(spaces=1) if solver == "iterative" else None
         with LinearContactProblem(
-            a, L, [pair], bcs, petsc_options_prefix=f"one_{solver}_", petsc_options=options
+            a,
+            L,
+            [pair],
+            bcs,
+            petsc_options_prefix=f"one_{solver}_",
+            petsc_options=options,
+            kind="nest" if solver == "iterative" else "aij",
         ) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)
@@ -139,6 +146,22 @@ def test_one_space_two_bodies():
     scale = _max(results[1])
     assert scale > 0
     assert _max(results[0] - results[1]) <= TOLERANCE * scale
+
+
+def test_schur_complement_needs_a_nest_problem():
+    """use_schur_complement configures the solver only: the kind is given at construction."""
+    scene = scenes.inf_sup_model(comm, (2, 2))
+    with block_problem(
+        scene,
+        (1, 1),
+        "upper",
+        support="clamped",
+        petsc_options_prefix="it_aij_",
+        search_radius=0.5,
+    ) as problem:
+        with pytest.raises(ValueError, match="kind='nest'"):
+            use_schur_complement(problem)
+        assert problem.kind == "aij"
 
 
 def test_bad_options():
@@ -187,7 +210,13 @@ def test_overhang_inactive_multipliers():
     for solver in ("iterative", "lu"):
         options = iterative_options(spaces=2) if solver == "iterative" else None
         with LinearContactProblem(
-            a, L, [pair], bcs, petsc_options_prefix=f"over_{solver}_", petsc_options=options
+            a,
+            L,
+            [pair],
+            bcs,
+            petsc_options_prefix=f"over_{solver}_",
+            petsc_options=options,
+            kind="nest" if solver == "iterative" else "aij",
         ) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)

@@ -178,8 +178,9 @@ def test_mumps_workspace_error_is_recovered():
 
 
 def test_mumps_workspace_error_names_the_option():
-    with readme_problem(prefix="ws2_", degree=2, petsc_options=TIGHT_WORKSPACE) as problem:
-        problem.workspace_retries = 0
+    with readme_problem(
+        prefix="ws2_", degree=2, petsc_options=TIGHT_WORKSPACE, workspace_retries=0
+    ) as problem:
         with pytest.raises(RuntimeError, match=r"INFOG\(1\) = -9.*mat_mumps_icntl_14"):
             problem.solve()
 
@@ -230,8 +231,8 @@ def test_fieldsplit_from_options_on_the_nest():
             petsc_options_prefix=prefix,
             petsc_options=opts,
             search_radius=0.5,
+            kind=kind,
         )
-        problem.kind = kind
         with problem:
             problem.solve()
             solutions.append(problem.multipliers[0].x.array.copy())

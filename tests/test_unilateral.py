@@ -237,6 +237,41 @@ def test_load_steps_start_from_previous_active_set():
     assert _owned_max(l1 - l2) <= 1e-10 * _owned_max(l1)
 
 
+@pytest.mark.parametrize("algorithm", ALGORITHMS)
+def test_monitor_sees_every_recorded_iteration(algorithm):
+    """``monitor=`` receives each Iteration as it enters the history, in order."""
+    part, V = _blocks(degree=1)
+    a, _, v = MATERIAL.forms(V)
+    dx = ufl.Measure("dx", domain=part.mesh, subdomain_data=part.cell_tags)
+    L = 0.3 * v[1] * dx(1)
+    tags = part.facet_tags
+    bcs = [_bc(V, 0, tags.find(4)), _bc(V, 1, tags.find(1))]
+    bcs += [_bc(V, 0, tags.find(23)), _bc(V, 1, tags.find(23))]
+    pair = contact_pair(contact_surface(V, tags, 20), contact_surface(V, tags, 10))
+    seen = []
+
+    def monitor(iteration):
+        # Called once the iteration is in the history, with the update time so far.
+        assert problem.history.steps[-1].iterations[-1] is iteration
+        seen.append((iteration, problem.update_seconds))
+
+    with UnilateralContactProblem(
+        a,
+        L,
+        [pair],
+        bcs,
+        petsc_options_prefix=f"uni_monitor_{algorithm}_".replace("-", "_"),
+        algorithm=algorithm,
+        monitor=monitor,
+    ) as problem:
+        problem.solve([0.5, 1.0])
+        recorded = [it for step in problem.history.steps for it in step.iterations]
+        assert [it for it, _ in seen] == recorded
+        times = [t for _, t in seen]
+        assert times == sorted(times)
+        assert problem.update_seconds >= times[-1] > 0.0
+
+
 def test_snes_vi_with_uncovered_multipliers():
     """SNES VI on a contactor partly facing no target agrees with the active-set loop.
 

@@ -1,0 +1,56 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The ``"active-set"`` algorithm: semismooth Newton on the complementarity function.
+
+The primal-dual active set method on :math:`C_j = \lambda_j - \max(0, \lambda_j - c_j
+\tilde g_j)`: for linear elastic bodies every iteration is one saddle-point solve of
+Eq. (18) with the inactive multipliers set to zero, and the iteration ends when the
+active set repeats, which makes :math:`C = 0` up to round-off.
+
+This module needs petsc4py and must be imported explicitly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from dolfinx_contact_s2s.unilateral.history import LoadStep
+from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
+
+__all__ = ["solve_step"]
+
+
+def solve_step(
+    run: ContactIteration, step: LoadStep, active: list[npt.NDArray[np.bool_]]
+) -> list[npt.NDArray[np.bool_]]:
+    """Semismooth Newton (primal-dual active set) iterations of one load step.
+
+    Args:
+        run: The solve's shared state.
+        step: The load step; its iterations are appended.
+        active: Per pair, the first active set (owned multipliers).
+
+    Returns:
+        The converged active set.
+
+    Raises:
+        ContactConvergenceError: If the iteration does not converge.
+    """
+    system, comp = run.system, run.complementarity
+    for _ in range(run.max_iterations):
+        released = comp.released(active)
+        system.build(released, load=step.load)
+        run.check_active_support(step, released)
+        run.solve_linear(step)
+        z, residual = comp.evaluate(comp.lambdas(), comp.weighted_gaps())
+        new, entered, left = comp.update(active, z)
+        run.record(step, active, entered, left, residual)
+        if entered == 0 and left == 0 and residual <= run.tolerance:
+            step.converged = True
+            return active
+        active = new
+    run.fail(
+        f"the active-set iteration did not converge in {run.max_iterations} solves "
+        f"at load {step.load:g} (raise max_iterations, or take smaller load steps)"
+    )

@@ -1,0 +1,265 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The unilateral contact problem (Eq. 1) and its load steps.
+
+:class:`UnilateralContactProblem` holds a
+:class:`~dolfinx_contact_s2s.system.ContactSystem` (by composition, through
+:class:`~dolfinx_contact_s2s.problem.ContactProblemBase`), assembles it with the
+complementarity parameters (:mod:`.complementarity`) and runs the chosen algorithm
+(:mod:`.active_set`, :mod:`.snes_vi`, :mod:`.penalty`) over the load factors.
+
+This module needs petsc4py and must be imported explicitly.
+"""
+
+from __future__ import annotations
+
+import time
+import typing
+from collections.abc import Callable, Sequence
+
+from petsc4py import PETSc
+
+import dolfinx
+import numpy as np
+import numpy.typing as npt
+import ufl
+
+from dolfinx_contact_s2s.pair import ContactPair
+from dolfinx_contact_s2s.problem import ContactProblemBase
+from dolfinx_contact_s2s.system import DEFAULT_OPTIONS, ContactSystem
+from dolfinx_contact_s2s.unilateral import active_set, penalty, snes_vi
+from dolfinx_contact_s2s.unilateral.complementarity import Complementarity
+from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
+from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
+
+__all__ = ["ALGORITHMS", "DEFAULT_PENALTY", "STARTS", "UnilateralContactProblem"]
+
+#: The solution algorithms (see the package docstring).
+ALGORITHMS = ("active-set", "snes-vi", "penalty", "augmented-lagrangian")
+
+#: First active set of the first load step: the multipliers of the nearest points
+#: (smallest initial gap, and every penetration), every multiplier (the tied problem of
+#: Eq. 18, always supported when the model passed its checks), or the penetrating ones
+#: (negative weighted gap at zero displacement).
+STARTS = ("nearest", "tied", "gap")
+
+#: Default factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`, by algorithm.
+DEFAULT_PENALTY = {
+    "active-set": 1.0,
+    "snes-vi": 1.0,
+    "penalty": 100.0,
+    "augmented-lagrangian": 10.0,
+}
+
+
+class UnilateralContactProblem(ContactProblemBase):
+    r"""Linear elastic bodies in frictionless unilateral contact (Eq. 1).
+
+    The problem of :class:`~dolfinx_contact_s2s.problem.LinearContactProblem` (the same
+    public attributes, read from the :class:`~dolfinx_contact_s2s.system.ContactSystem` it
+    holds), with the tied rows of Eq. (18) replaced by the conditions of Eq. (1) on the
+    weighted gaps.
+    :meth:`solve` takes a list of load factors (each scales the loads ``L`` and the
+    Dirichlet values; the gaps :math:`g_0` stay) and starts every step from the
+    previous step's active set.
+
+    After :meth:`solve`: :attr:`u`, :attr:`multipliers` (the contact pressure, zero
+    where the surfaces separate), :attr:`active` (1 on the active multipliers),
+    :attr:`gaps` (the weighted gaps :math:`\tilde g_j`) and :attr:`history`.
+
+    Every solve checks itself: the support and rank checks at assembly, the residual of
+    every linear solve, and at the end the complementarity residual
+    :math:`\max_j |C_j| \le` ``tolerance`` (relative). A solve that does not converge
+    within ``max_iterations`` raises :class:`ContactConvergenceError` on every process,
+    with its history. A ``monitor`` sees every linear solve as it is recorded.
+    """
+
+    def __init__(
+        self,
+        a: ufl.Form | Sequence[ufl.Form],
+        L: ufl.Form | Sequence[ufl.Form],
+        pairs: Sequence[ContactPair],
+        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
+        *,
+        petsc_options_prefix: str,
+        petsc_options: dict[str, typing.Any] | None = None,
+        algorithm: str = "active-set",
+        start: str = "nearest",
+        penalty: float | None = None,
+        max_iterations: int = 50,
+        tolerance: float = 1e-10,
+        kind: str = "aij",
+        residual_tolerance: float = 1e-8,
+        workspace_retries: int = 3,
+        monitor: Callable[[Iteration], None] | None = None,
+        form_compiler_options: dict | None = None,
+        jit_options: dict | None = None,
+    ):
+        r"""Set up the problem; the arguments of ``LinearContactProblem`` and these.
+
+        Args:
+            a: Bilinear form of each displacement space.
+            L: Linear form of each displacement space.
+            pairs: Contact pairs.
+            bcs: Dirichlet conditions.
+            petsc_options_prefix: Non-empty prefix of the solver's options (the KSP of
+                every linear solve; with ``"snes-vi"`` also the SNES).
+            petsc_options: Options under the prefix.
+            algorithm: One of :data:`ALGORITHMS`.
+            start: First active set, one of :data:`STARTS`.
+            penalty: Factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`;
+                defaults to :data:`DEFAULT_PENALTY` of the algorithm.
+            max_iterations: Largest number of linear solves per load step (of Uzawa
+                updates, for the augmented Lagrangian).
+            tolerance: Largest relative complementarity residual of a converged solve;
+                for the augmented Lagrangian, also the largest relative change of
+                :math:`\lambda` at the last update.
+            kind: ``"aij"`` or ``"nest"`` (not with ``"snes-vi"``, which extracts
+                reduced matrices).
+            residual_tolerance: Largest relative residual of every linear solve.
+            workspace_retries: Times a MUMPS workspace error is met by doubling
+                ICNTL(14) before raising.
+            monitor: Called as ``monitor(iteration)`` with every
+                :class:`~dolfinx_contact_s2s.unilateral.history.Iteration` once it is
+                recorded in :attr:`history` (after its linear solve and the active-set
+                update), e.g. to log or time the iterations; collective calls inside it
+                must be made on every process.
+            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
+            jit_options: Passed to :func:`dolfinx.fem.form`.
+
+        Raises:
+            ValueError: For an unknown algorithm or start, or a bad parameter.
+        """
+        if algorithm not in ALGORITHMS:
+            raise ValueError(f"algorithm must be one of {ALGORITHMS}, not {algorithm!r}")
+        if start not in STARTS:
+            raise ValueError(f"start must be one of {STARTS}, not {start!r}")
+        if algorithm == "snes-vi" and kind != "aij":
+            raise ValueError("the 'snes-vi' algorithm needs kind='aij'")
+        if penalty is None:
+            penalty = DEFAULT_PENALTY[algorithm]
+        if not (penalty > 0 and np.isfinite(penalty)):
+            raise ValueError(f"penalty must be positive and finite, not {penalty}")
+        if int(max_iterations) < 1 or not tolerance > 0:
+            raise ValueError("need max_iterations >= 1 and tolerance > 0")
+        self.algorithm = algorithm
+        self.start = start
+        self.penalty = float(penalty)
+        self.max_iterations = int(max_iterations)
+        self.tolerance = float(tolerance)
+        self._monitor = monitor
+        defaults = dict(DEFAULT_OPTIONS)
+        if algorithm == "snes-vi":
+            defaults |= snes_vi.snes_options(self.max_iterations)
+        super().__init__(
+            ContactSystem(
+                a,
+                L,
+                pairs,
+                bcs,
+                petsc_options_prefix=petsc_options_prefix,
+                petsc_options=petsc_options,
+                kind=kind,
+                residual_tolerance=residual_tolerance,
+                workspace_retries=workspace_retries,
+                default_options=defaults,
+                form_compiler_options=form_compiler_options,
+                jit_options=jit_options,
+            )
+        )
+        self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
+        self.gaps = [dolfinx.fem.Function(p.Q, name=f"gap{j}") for j, p in enumerate(pairs)]
+        self.history = ContactHistory(algorithm)
+        self._complementarity: Complementarity | None = None
+
+    @property
+    def scales(self) -> list[PETSc.Vec]:
+        r"""Per pair, :math:`c_j` (zero at the pair's inactive multipliers); set at assembly."""
+        return [] if self._complementarity is None else self._complementarity.scales
+
+    @property
+    def update_seconds(self) -> float:
+        """Wall time (s, this process) of the active-set bookkeeping since the last assembly.
+
+        The weighted gaps, the complementarity function, the active-set updates, the
+        released multipliers and the first active set
+        (:class:`~dolfinx_contact_s2s.unilateral.complementarity.Complementarity`); the
+        stages of :attr:`timings` exclude it.
+        """
+        return 0.0 if self._complementarity is None else self._complementarity.seconds
+
+    def assemble(self, check: bool = True) -> None:
+        """Assemble as :meth:`LinearContactProblem.assemble`, and the scales :math:`c_j`."""
+        self.system.assemble(check)
+        if self._complementarity is not None:
+            self._complementarity.destroy()
+        self._complementarity = Complementarity(self.system, self.penalty, self.tolerance)
+
+    # --- solve ------------------------------------------------------------------------
+
+    def solve(
+        self, load_factors: Sequence[float] = (1.0,)
+    ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
+        """Assemble, then solve the contact problem at every load factor in turn.
+
+        Args:
+            load_factors: Factors on the loads and Dirichlet values, solved in order,
+                each starting from the previous one's active set.
+
+        Returns:
+            The displacement of every space and the contact pressure of every pair, at
+            the last load factor.
+
+        Raises:
+            ValueError: On every rank, if the model is singular (see :meth:`assemble`).
+            RuntimeError: On every rank, if a linear solve fails.
+            ContactConvergenceError: On every rank, if a load step does not converge.
+        """
+        loads = [float(t) for t in load_factors]
+        if not loads or not all(np.isfinite(loads)):
+            raise ValueError("give at least one finite load factor")
+        self.assemble()
+        assert self._complementarity is not None
+        comp = self._complementarity
+        run = ContactIteration(
+            self.system,
+            comp,
+            self.algorithm,
+            self.max_iterations,
+            self.tolerance,
+            self._monitor,
+        )
+        self.history = run.history
+        step_solver: Callable[..., list[npt.NDArray[np.bool_]]] = {
+            "active-set": active_set.solve_step,
+            "snes-vi": snes_vi.solve_step,
+            "penalty": penalty.solve_step,
+            "augmented-lagrangian": lambda *args: penalty.solve_step(*args, augmented=True),
+        }[self.algorithm]
+        active: list[npt.NDArray[np.bool_]] | None = None
+        for t in loads:
+            step = LoadStep(t)
+            self.history.steps.append(step)
+            begin = time.perf_counter()
+            if active is None:
+                active = comp.first_active(t, self.start)
+            active = step_solver(run, step, active)
+            step.seconds = time.perf_counter() - begin
+        assert active is not None
+        self._finish(comp, active)
+        return self.u, self.multipliers
+
+    def _finish(self, comp: Complementarity, active: list[npt.NDArray[np.bool_]]) -> None:
+        for f, a in zip(self.active, active, strict=True):
+            f.x.array[:] = 0.0
+            f.x.array[: a.size] = a
+            f.x.scatter_forward()
+        for f, g in zip(self.gaps, comp.weighted_gaps(), strict=True):
+            f.x.array[: g.size] = g
+            f.x.scatter_forward()
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects and remove the problem's options from the database."""
+        if self._complementarity is not None:
+            self._complementarity.destroy()
+        super().destroy()
