@@ -2,12 +2,13 @@
 # SPDX-License-Identifier: MIT
 r"""Contact search: which contactor facets face which target facets, and where.
 
-Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.pair`:
+Stages shared by every discretization of :mod:`dolfinx_contact_s2s.pair`, as functions
+that return new arrays and set nothing on their arguments:
 
-- candidate pairs of facets from bounding boxes padded by the search radius
-  (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`);
-- the sub-segments of the new algorithm (section 5, Fig. 15(b)): contactor facets cut
-  at the projections of the target's corner nodes (:func:`sub_segments`);
+- candidate pairs of facets from bounding boxes padded by the search radius, or swept
+  along the normals (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`; the
+  sub-segments of Fig. 15(b) are cut from such candidates by
+  :mod:`dolfinx_contact_s2s.segmentation`);
 - the target point :math:`x_T^{i*}` met along the normal :math:`N = -n_C` from a
   contactor point (Eq. 38, Fig. 7(b)), the nearest over several target surfaces
   (:func:`find_targets`), and its distance to the nearest target node
@@ -31,36 +32,13 @@ from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
     "Hits",
-    "SubSegments",
     "box_pairs",
     "candidates",
     "default_search_radius",
     "find_targets",
     "node_offsets",
-    "sub_segments",
     "swept_boxes",
 ]
-
-
-@dataclass(frozen=True)
-class SubSegments:
-    """Sub-segments of the contactor facets of one process against one target (Fig. 15(b)).
-
-    Attributes:
-        contactor: Row of the contactor facet in :attr:`ContactSurface.data`.
-        target: Row of the target facet in the gathered target data.
-        lo: Start of the sub-segment, as a contactor facet parameter in [0, 1].
-        hi: End of the sub-segment.
-    """
-
-    contactor: npt.NDArray[np.int32]
-    target: npt.NDArray[np.int32]
-    lo: npt.NDArray[np.floating]
-    hi: npt.NDArray[np.floating]
-
-    def __len__(self) -> int:
-        """Number of sub-segments."""
-        return self.contactor.size
 
 
 @dataclass(frozen=True)
@@ -116,42 +94,36 @@ def default_search_radius(contactor: ContactSurface, targets: Sequence[ContactSu
 
 
 def candidates(
-    boxes: npt.NDArray[np.floating], target: ContactSurface, T: SurfaceData, radius: float
+    boxes: npt.NDArray[np.floating], target_boxes: npt.NDArray[np.floating], radius: float
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
-    """Pairs (box, target facet) whose boxes overlap once ``boxes`` are padded by ``radius``."""
+    """Pairs (box, target box) that overlap once ``boxes`` are padded by ``radius``."""
     padded = boxes.copy()
     padded[:, 0] -= radius
     padded[:, 1] += radius
-    return box_pairs(padded, target.bounding_boxes(T))
+    return box_pairs(padded, target_boxes)
 
 
 def swept_boxes(
-    surface: ContactSurface, data: SurfaceData, radius: float
+    boxes: npt.NDArray[np.floating], coefficients: npt.NDArray[np.floating], radius: float
 ) -> npt.NDArray[np.floating]:
-    r"""Boxes of the facets moved by up to ``radius`` along their normals.
+    r"""Boxes of edges (facets of 2D cells) moved by up to ``radius`` along their normals.
 
-    A straight facet swept along :math:`\pm r \mathbf n` covers a parallelogram whose
-    box is the facet's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved
-    facet's box grows by :math:`r` in every direction. The boxes of the surface's own
-    facets are kept until :attr:`~ContactSurface.data` is replaced (read-only).
+    A straight edge swept along :math:`\pm r \mathbf n` covers a parallelogram whose
+    box is the edge's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved edge's
+    box grows by :math:`r` in every direction.
+
+    Args:
+        boxes: The edges' boxes ``(F, 2, 2)``
+            (:meth:`~dolfinx_contact_s2s.surface.ContactSurface.bounding_boxes`).
+        coefficients: The edges' monomial coefficients ``(F, p + 1, 2)``.
+        radius: The search radius.
+
+    Returns:
+        New boxes ``(F, 2, 2)``.
     """
-    cached = getattr(surface, "_swept_boxes", None)
-    if cached is not None and cached[0] is data and cached[1] == radius:
-        return cached[2]
-    boxes = _swept_boxes(surface, data, radius)
-    if data is surface.data:
-        boxes.setflags(write=False)
-        surface._swept_boxes = (data, radius, boxes)
-    return boxes
-
-
-def _swept_boxes(
-    surface: ContactSurface, data: SurfaceData, radius: float
-) -> npt.NDArray[np.floating]:
-    """The boxes of :func:`swept_boxes`, computed."""
-    boxes = surface.bounding_boxes(data)
-    c = data.coefficients
-    pad = np.full((len(data), boxes.shape[2]), radius)
+    boxes = boxes.copy()
+    c = coefficients
+    pad = np.full((c.shape[0], boxes.shape[2]), radius)
     straight = np.all(c[:, 2:] == 0.0, axis=(1, 2))
     tangent = c[straight, 1]
     length = np.sqrt(np.einsum("fg,fg->f", tangent, tangent))[:, None]
@@ -159,32 +131,6 @@ def _swept_boxes(
     boxes[:, 0] -= pad
     boxes[:, 1] += pad
     return boxes
-
-
-def sub_segments(
-    contactor: ContactSurface, target: ContactSurface, T: SurfaceData, radius: float
-) -> SubSegments:
-    """Cut the contactor facets at the projected target corner nodes (Fig. 15(b)).
-
-    Candidate pairs come from the boxes of the contactor facets swept along their
-    normals by the search radius (:func:`swept_boxes`) that overlap target facet boxes;
-    pairs whose outward normals do not oppose are dropped, and so are pieces
-    whose middle is farther than ``radius`` from the target facet along the normal.
-
-    Args:
-        contactor: The contactor surface (its process-local facets are cut).
-        target: The target surface.
-        T: The target's gathered facets.
-        radius: The search radius.
-    """
-    C, cs, ts = contactor.data, contactor, target
-    ic, it = box_pairs(swept_boxes(cs, C, radius), ts.bounding_boxes(T))
-    # No shortest length besides round-off: dropping a real piece between nodes of the
-    # two surfaces delta apart costs a consistency error of order delta in the pressure.
-    lo, hi, keep = cs.backend.clip_segments(
-        C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it, radius, 0.0
-    )
-    return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
 
 
 def _hits_on(
@@ -195,7 +141,7 @@ def _hits_on(
     radius: float,
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32], npt.NDArray[np.floating]]:
     """Every (point, facet) of one target met along the normal, with the signed gap."""
-    ip, it = candidates(np.stack([x, x], axis=1), target, T, radius)
+    ip, it = candidates(np.stack([x, x], axis=1), target.bounding_boxes(T), radius)
     eta = target.intersect(T, it, x[ip], normals[ip])
     tol = 1e-10
     inside = (eta >= -tol) & (eta <= 1 + tol)
