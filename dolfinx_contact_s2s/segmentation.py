@@ -153,7 +153,7 @@ class IntervalSegmentation:
     def sweep(
         self, contactor: SurfaceData, boxes: npt.NDArray[np.floating], radius: float
     ) -> npt.NDArray[np.floating]:
-        """The boxes of the edges swept along their normals (:func:`search.swept_boxes`)."""
+        """The edges' boxes swept along their normals (:func:`.search.swept_boxes`)."""
         return swept_boxes(boxes, contactor.coefficients, radius)
 
     def cut(
