@@ -178,6 +178,15 @@ def _facet_integrals(pair: PairLike) -> npt.NDArray[np.floating]:
     return w.reshape(n, s_ref.size, mu.shape[1]).sum(axis=1)
 
 
+def _rays(
+    contactor: ContactSurface, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating]
+) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+    r"""Contactor points and the direction :math:`\mathbf N = -\mathbf n_C` there (Eq. 38)."""
+    C = contactor.data
+    _, x, _ = contactor.evaluate(C, rows, xi)
+    return x, -contactor.outward_normals(C, rows, xi)
+
+
 class Discretization:
     """Rules shared by the discretizations; subclasses override what differs.
 
@@ -266,7 +275,10 @@ class Discretization:
     ) -> tuple[tuple[npt.NDArray, ...], npt.NDArray[np.int32], npt.NDArray[np.int32]]:
         """The points of :meth:`point_rule` that meet a target, the target and its facet."""
         rows, xi, weights, dofs = self.point_rule(pair)
-        hit = find_targets(pair.contactor, rows, xi, pair.targets, gathered, pair.search_radius)
+        x, normals = _rays(pair.contactor, rows, xi)
+        boxes = [t.bounding_boxes(T) for t, T in zip(pair.targets, gathered, strict=True)]
+        backends = [t.backend for t in pair.targets]
+        hit = find_targets(x, normals, gathered, boxes, backends, pair.search_radius)
         p = hit.points
         return (rows[p], xi[p], weights[p], dofs[p]), hit.target, hit.rows
 
@@ -361,7 +373,9 @@ class NodeToSegment(Discretization):
         offsets = np.empty(rows.size)
         for j, (t, T) in enumerate(zip(pair.targets, gathered, strict=True)):
             sel = which == j
-            offsets[sel] = node_offsets(pair.contactor, rows[sel], xi[sel], t, T, t_rows[sel])
+            x, normals = _rays(pair.contactor, rows[sel], xi[sel])
+            degree = t.element.degree
+            offsets[sel] = node_offsets(x, normals, T, t_rows[sel], degree, t.backend)
         return offsets <= 1e-8 * h, dofs
 
     def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:

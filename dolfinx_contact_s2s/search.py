@@ -14,8 +14,9 @@ that return new arrays and set nothing on their arguments:
   (:func:`find_targets`), and its distance to the nearest target node
   (:func:`node_offsets`, for node-to-node and the two-pass method).
 
-Target surfaces are passed with their facets gathered on every process
-(:meth:`~dolfinx_contact_s2s.surface.ContactSurface.gather`).
+Target facets are passed as arrays, gathered on every process
+(:meth:`~dolfinx_contact_s2s.surface.ContactSurface.gather`), with the kernels
+(:mod:`dolfinx_contact_s2s.kernels`) that evaluate them.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.kernels import KernelBackend
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
@@ -134,41 +136,45 @@ def swept_boxes(
 
 
 def _hits_on(
-    target: ContactSurface,
     T: SurfaceData,
+    boxes: npt.NDArray[np.floating],
+    backend: KernelBackend,
     x: npt.NDArray[np.floating],
     normals: npt.NDArray[np.floating],
     radius: float,
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32], npt.NDArray[np.floating]]:
     """Every (point, facet) of one target met along the normal, with the signed gap."""
-    ip, it = candidates(np.stack([x, x], axis=1), target.bounding_boxes(T), radius)
-    eta = target.intersect(T, it, x[ip], normals[ip])
+    ip, it = candidates(np.stack([x, x], axis=1), boxes, radius)
+    c = T.coefficients
+    eta = backend.intersect(c, it, x[ip], normals[ip])
     tol = 1e-10
     inside = (eta >= -tol) & (eta <= 1 + tol)
     eta = np.clip(eta, 0.0, 1.0)
-    _, x_t, _ = target.evaluate(T, it, eta)
+    x_t, _ = backend.evaluate(c, it, eta)
     gap = np.einsum("pg,pg->p", x[ip] - x_t, normals[ip])
-    facing = np.einsum("pg,pg->p", target.outward_normals(T, it, eta), normals[ip]) > 0
+    n_t = backend.outward_normals(c, T.orientation, it, eta)
+    facing = np.einsum("pg,pg->p", n_t, normals[ip]) > 0
     ok = inside & facing & (np.abs(gap) <= radius)
     return ip[ok], it[ok], gap[ok]
 
 
 def find_targets(
-    contactor: ContactSurface,
-    rows: npt.NDArray[np.int32],
-    xi: npt.NDArray[np.floating],
-    targets: Sequence[ContactSurface],
+    x: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
     gathered: Sequence[SurfaceData],
+    boxes: Sequence[npt.NDArray[np.floating]],
+    backends: Sequence[KernelBackend],
     radius: float,
 ) -> Hits:
-    """The target facet hit along the normal from each contactor point (Eq. 38, Fig. 7(b)).
+    r"""The target facet hit along the normal from each contactor point (Eq. 38, Fig. 7(b)).
 
     Args:
-        contactor: The contactor surface.
-        rows: Contactor facet row of each point.
-        xi: Contactor facet parameter of each point.
-        targets: The target surfaces.
-        gathered: Their gathered facets.
+        x: Contactor points, ``(P, gdim)``.
+        normals: The direction :math:`\mathbf N = -\mathbf n_C` at each point.
+        gathered: The facets of each target surface.
+        boxes: Their boxes
+            (:meth:`~dolfinx_contact_s2s.surface.ContactSurface.bounding_boxes`).
+        backends: The kernels of each target.
         radius: Largest normal distance of a hit.
 
     Returns:
@@ -176,10 +182,10 @@ def find_targets(
         target and facet each of them hits: the nearest over all targets (any one of
         them where several are equally near).
     """
-    C = contactor.data
-    _, x, _ = contactor.evaluate(C, rows, xi)
-    normals = -contactor.outward_normals(C, rows, xi)
-    found = [_hits_on(t, T, x, normals, radius) for t, T in zip(targets, gathered, strict=True)]
+    found = [
+        _hits_on(T, b, k, x, normals, radius)
+        for T, b, k in zip(gathered, boxes, backends, strict=True)
+    ]
     ip = np.concatenate([f[0] for f in found]).astype(np.int64)
     it = np.concatenate([f[1] for f in found]).astype(np.int32)
     gap = np.concatenate([f[2] for f in found])
@@ -192,18 +198,28 @@ def find_targets(
 
 
 def node_offsets(
-    contactor: ContactSurface,
-    rows: npt.NDArray[np.int32],
-    xi: npt.NDArray[np.floating],
-    target: ContactSurface,
+    x: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
     T: SurfaceData,
     t_rows: npt.NDArray[np.int32],
+    degree: int,
+    backend: KernelBackend,
 ) -> npt.NDArray[np.floating]:
-    """Distance from each contactor point's target point to the nearest target node."""
-    C = contactor.data
-    _, x, _ = contactor.evaluate(C, rows, xi)
-    eta = target.intersect(T, t_rows, x, -contactor.outward_normals(C, rows, xi))
+    r"""Distance from each contactor point's target point to the nearest target node.
+
+    Args:
+        x: Contactor points, ``(P, gdim)``.
+        normals: The direction :math:`\mathbf N = -\mathbf n_C` at each point.
+        T: The target's facets.
+        t_rows: The target facet row each point meets.
+        degree: The target's displacement degree (its nodes on a facet).
+        backend: The target's kernels.
+    """
+    c = T.coefficients
+    eta = backend.intersect(c, t_rows, x, normals)
     # Facet parameters of the target's Lagrange nodes (P1: ends; P2: ends and middle).
-    nodes = np.linspace(0.0, 1.0, target.element.degree + 1)
+    nodes = np.linspace(0.0, 1.0, degree + 1)
     off = np.min(np.abs(eta[:, None] - nodes[None, :]), axis=1, initial=np.inf)
-    return off * target.sizes(T)[t_rows]
+    x0, _ = backend.evaluate(c, t_rows, np.zeros(t_rows.size))
+    x1, _ = backend.evaluate(c, t_rows, np.ones(t_rows.size))
+    return off * np.linalg.norm(x1 - x0, axis=1)
