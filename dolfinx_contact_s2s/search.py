@@ -21,6 +21,8 @@ Target facets are passed as arrays, gathered on every process
 
 from __future__ import annotations
 
+import typing
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -223,3 +225,23 @@ def node_offsets(
     x0, _ = backend.evaluate(c, t_rows, np.zeros(t_rows.size))
     x1, _ = backend.evaluate(c, t_rows, np.ones(t_rows.size))
     return off * np.linalg.norm(x1 - x0, axis=1)
+
+
+def __getattr__(name: str) -> typing.Any:
+    """Names that moved to :mod:`dolfinx_contact_s2s.segmentation` in 0.3."""
+    if name == "SubSegments":
+        warnings.warn(
+            "dolfinx_contact_s2s.search.SubSegments is deprecated: import it from "
+            "dolfinx_contact_s2s.segmentation",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        from dolfinx_contact_s2s.segmentation import SubSegments
+
+        return SubSegments
+    if name == "sub_segments":
+        raise AttributeError(
+            "dolfinx_contact_s2s.search.sub_segments moved: use ContactPair.sub_segments, or "
+            "the cut of dolfinx_contact_s2s.segmentation.get_segmentation(facet_dim)"
+        )
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

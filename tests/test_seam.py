@@ -131,3 +131,13 @@ def test_backends_satisfy_the_protocols(kernel_backend):
     assert isinstance(kernel_backend, KernelBackend)
     assert kernel_backend.FACET_DIM == 1
     assert isinstance(get_segmentation(1), Segmentation)
+
+
+def test_moved_search_names():
+    """``search.SubSegments`` warns and is the moved class; ``search.sub_segments`` says where."""
+    from dolfinx_contact_s2s import search
+
+    with pytest.warns(DeprecationWarning, match="segmentation"):
+        assert search.SubSegments is SubSegments
+    with pytest.raises(AttributeError, match=r"ContactPair\.sub_segments"):
+        search.sub_segments  # noqa: B018
