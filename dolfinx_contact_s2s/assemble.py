@@ -10,7 +10,6 @@ rows to copies. This module needs petsc4py and must be imported explicitly, as
 
 from __future__ import annotations
 
-import types
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -23,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.kernels import numpy_backend
+from dolfinx_contact_s2s.kernels import KernelBackend, numpy_backend
 from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = [
@@ -71,7 +70,7 @@ def _coo_matrix(
     row_map: dolfinx.common.IndexMap,
     col_map: dolfinx.common.IndexMap,
     col_bs: int,
-    backend: types.ModuleType = numpy_backend,
+    backend: KernelBackend = numpy_backend,
 ) -> PETSc.Mat:
     """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)``.
 
@@ -174,16 +173,7 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    # The integrals of the multiplier basis, once per pair: the multiplier space lives on
-    # a mesh of its own, made with the pair, whose nodes nothing moves.
-    cached = getattr(pair, "_multiplier_integrals", None)
-    if cached is None or cached[0] is not Q:
-        form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
-        vector = dolfinx.fem.assemble_vector(form)
-        vector.scatter_reverse(dolfinx.la.InsertMode.add)
-        cached = (Q, np.abs(vector.array[: imap.size_local]))
-        pair._multiplier_integrals = cached
-    none = covered.array_r <= UNCOVERED_TOLERANCE * cached[1]
+    none = covered.array_r <= UNCOVERED_TOLERANCE * pair.multiplier_integrals()
     covered.destroy()
     mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
     return np.concatenate(comm.allgather(mine)).astype(np.int64)

@@ -9,7 +9,7 @@ Newton-Cotes points of the contactor segments, Fig. 15(a); or of the sub-segment
 the new algorithm, Eqs. 40-42 and Fig. 15(b)-(c)), and which target each point meets.
 Each is a small class; :data:`DISCRETIZATIONS` maps the method names of
 :class:`~dolfinx_contact_s2s.pair.ContactPair` to them, so the method string is
-read once, when the pair is built.
+read once, when the pair is built. What they need from a pair is :class:`PairLike`.
 """
 
 from __future__ import annotations
@@ -28,11 +28,9 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
 from dolfinx_contact_s2s.quadrature import interval_rule
-from dolfinx_contact_s2s.search import find_targets, node_offsets, sub_segments
+from dolfinx_contact_s2s.search import find_targets, node_offsets
+from dolfinx_contact_s2s.segmentation import Pieces, Segmentation, SubSegments
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, tabulate
-
-if typing.TYPE_CHECKING:
-    from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = [
     "DISCRETIZATIONS",
@@ -42,6 +40,7 @@ __all__ = [
     "NodeToNode",
     "NodeToSegment",
     "NodeToSegmentGauss",
+    "PairLike",
     "PointGroups",
     "SegmentToSegment",
 ]
@@ -83,6 +82,36 @@ class PointGroups:
     xi: npt.NDArray[np.floating]
     weights: npt.NDArray[np.floating]
     rows: npt.NDArray[np.int64]
+
+
+class PairLike(typing.Protocol):
+    """What a discretization reads from a pair (:class:`~dolfinx_contact_s2s.pair.ContactPair`).
+
+    The multiplier attributes are those of the pair being built: :meth:`Discretization.space`
+    runs before :attr:`multiplier` and :attr:`Q` exist.
+    """
+
+    contactor: ContactSurface
+    targets: list[ContactSurface]
+    search_radius: float
+    segmentation: Segmentation
+    quadrature: str
+    rule: tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]
+    weight: str
+    drop_coincident: bool
+    multiplier_degree: int
+    multiplier_continuous: bool
+    multiplier_variant: basix.LagrangeVariant
+    multiplier: MultiplierSpace
+    Q: dolfinx.fem.FunctionSpace
+
+    def reach(self) -> npt.NDArray[np.floating] | None:
+        """This process's contactor box grown by the search radius."""
+        ...
+
+    def sub_segments(self, target: int = 0, data: SurfaceData | None = None) -> Pieces:
+        """The pieces of the contactor facets against a target (Fig. 15(b))."""
+        ...
 
 
 def facet_space(
@@ -135,7 +164,7 @@ def _multiplicity(space: MultiplierSpace) -> npt.NDArray[np.floating]:
     return count.x.array
 
 
-def _facet_integrals(pair: ContactPair) -> npt.NDArray[np.floating]:
+def _facet_integrals(pair: PairLike) -> npt.NDArray[np.floating]:
     r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet."""
     cs, C, space = pair.contactor, pair.contactor.data, pair.multiplier
     n = len(C)
@@ -147,6 +176,15 @@ def _facet_integrals(pair: ContactPair) -> npt.NDArray[np.floating]:
     mu = tabulate(space.element, 0, s_sub[:, None])[0]
     w = (np.tile(w_ref, n) * np.linalg.norm(dx, axis=1))[:, None] * mu
     return w.reshape(n, s_ref.size, mu.shape[1]).sum(axis=1)
+
+
+def _rays(
+    contactor: ContactSurface, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating]
+) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+    r"""Contactor points and the direction :math:`\mathbf N = -\mathbf n_C` there (Eq. 38)."""
+    C = contactor.data
+    _, x, _ = contactor.evaluate(C, rows, xi)
+    return x, -contactor.outward_normals(C, rows, xi)
 
 
 class Discretization:
@@ -198,7 +236,7 @@ class Discretization:
         r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
         return f"M^{int(continuous)}_{{h,{degree}}}"
 
-    def gathered(self, pair: ContactPair) -> list[SurfaceData]:
+    def gathered(self, pair: PairLike) -> list[SurfaceData]:
         """The target facets this process can meet (collective).
 
         Row indices of the point groups of :meth:`points` refer to these arrays.
@@ -206,20 +244,18 @@ class Discretization:
         region = pair.reach()
         return [t.gather_near(region) for t in pair.targets]
 
-    def space(self, pair: ContactPair) -> MultiplierSpace:
+    def space(self, pair: PairLike) -> MultiplierSpace:
         """The multiplier space of ``pair`` (Eq. 16 on the contactor facets)."""
         variant = pair.multiplier_variant
         return facet_space(
             pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant
         )
 
-    def duplicates(
-        self, pair: ContactPair, gathered: Sequence[SurfaceData]
-    ) -> npt.NDArray[np.int64]:
+    def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:
         """Global multiplier dofs left out at construction (none by default)."""
         return np.empty(0, dtype=np.int64)
 
-    def point_rule(self, pair: ContactPair) -> tuple[npt.NDArray, ...]:
+    def point_rule(self, pair: PairLike) -> tuple[npt.NDArray, ...]:
         """Contactor points of a point-based method: ``(rows, xi, weights, dofs)``.
 
         The points of ``pair.rule`` on every contactor segment (Fig. 15(a)), weighted by
@@ -235,15 +271,18 @@ class Discretization:
         return rows, xi, weights, np.full(rows.size, -1, dtype=np.int32)
 
     def hits(
-        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+        self, pair: PairLike, gathered: Sequence[SurfaceData]
     ) -> tuple[tuple[npt.NDArray, ...], npt.NDArray[np.int32], npt.NDArray[np.int32]]:
         """The points of :meth:`point_rule` that meet a target, the target and its facet."""
         rows, xi, weights, dofs = self.point_rule(pair)
-        hit = find_targets(pair.contactor, rows, xi, pair.targets, gathered, pair.search_radius)
+        x, normals = _rays(pair.contactor, rows, xi)
+        boxes = [t.bounding_boxes(T) for t, T in zip(pair.targets, gathered, strict=True)]
+        backends = [t.backend for t in pair.targets]
+        hit = find_targets(x, normals, gathered, boxes, backends, pair.search_radius)
         p = hit.points
         return (rows[p], xi[p], weights[p], dofs[p]), hit.target, hit.rows
 
-    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+    def points(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
         """Integration points against each target (one group per point, Eqs. 37-39)."""
         (rows, xi, weights, _), which, t_rows = self.hits(pair, gathered)
         out = []
@@ -267,21 +306,15 @@ class SegmentToSegment(Discretization):
     segments only (Fig. 15(a)).
     """
 
-    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+    def points(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
         """Sub-segment points (composite rules) or contactor segment points."""
         if not pair.quadrature.startswith("composite-"):
             return super().points(pair, gathered)
-        cs, C = pair.contactor, pair.contactor.data
-        s_ref, w_ref = pair.rule
+        cs = pair.contactor
         out = []
-        for target, T in zip(pair.targets, gathered, strict=True):
-            seg = sub_segments(cs, target, T, pair.search_radius)
-            length = seg.hi - seg.lo
-            xi = seg.lo[:, None] + length[:, None] * s_ref[None, :]
-            rows = np.repeat(seg.contactor, s_ref.size)
-            _, dx = cs.backend.evaluate(C.coefficients, rows, xi.reshape(-1))
-            jac = np.sqrt(np.einsum("pg,pg->p", dx, dx)).reshape(xi.shape)
-            weights = length[:, None] * w_ref[None, :] * jac
+        for j, (_, T) in enumerate(zip(pair.targets, gathered, strict=True)):
+            seg = pair.sub_segments(j, T)
+            xi, weights = pair.segmentation.points(cs.data, seg, pair.rule, cs.backend)
             rows = cell_rows(pair.multiplier, seg.contactor)
             out.append(PointGroups(seg.contactor, seg.target, xi, weights, rows))
         return out
@@ -308,7 +341,7 @@ class NodeToSegment(Discretization):
         if family not in ("Lagrange", "P", "CG") or degree != contactor.element.degree:
             raise ValueError(f"{self.method} puts one multiplier on every contactor node")
 
-    def point_rule(self, pair: ContactPair) -> tuple[npt.NDArray, ...]:
+    def point_rule(self, pair: PairLike) -> tuple[npt.NDArray, ...]:
         """Every multiplier node on every contactor facet, with its weight (Eq. 39)."""
         space, n = pair.multiplier, len(pair.contactor.data)
         # Every multiplier dof sits on a contactor node; s is the submesh parameter.
@@ -325,7 +358,7 @@ class NodeToSegment(Discretization):
         return rows, xi, weights, dofs
 
     def coincident(
-        self, pair: ContactPair, gathered: Sequence[SurfaceData]
+        self, pair: PairLike, gathered: Sequence[SurfaceData]
     ) -> tuple[npt.NDArray[np.bool_], npt.NDArray]:
         """Whether each hitting node meets a target node (within 1e-8 of the element size)."""
         (rows, xi, _, dofs), which, t_rows = self.hits(pair, gathered)
@@ -340,12 +373,12 @@ class NodeToSegment(Discretization):
         offsets = np.empty(rows.size)
         for j, (t, T) in enumerate(zip(pair.targets, gathered, strict=True)):
             sel = which == j
-            offsets[sel] = node_offsets(pair.contactor, rows[sel], xi[sel], t, T, t_rows[sel])
+            x, normals = _rays(pair.contactor, rows[sel], xi[sel])
+            degree = t.element.degree
+            offsets[sel] = node_offsets(x, normals, T, t_rows[sel], degree, t.backend)
         return offsets <= 1e-8 * h, dofs
 
-    def duplicates(
-        self, pair: ContactPair, gathered: Sequence[SurfaceData]
-    ) -> npt.NDArray[np.int64]:
+    def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:
         """With ``drop_coincident``: the multipliers of nodes that meet a target node."""
         if not pair.drop_coincident:
             return np.empty(0, dtype=np.int64)
@@ -365,9 +398,7 @@ class NodeToNode(NodeToSegment):
         """Always ``"unit"``."""
         return "unit"
 
-    def duplicates(
-        self, pair: ContactPair, gathered: Sequence[SurfaceData]
-    ) -> npt.NDArray[np.int64]:
+    def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:
         """None; raise ValueError on every rank unless the nodes of both sides coincide."""
         coincident, _ = self.coincident(pair, gathered)
         # Every contactor node meets a target node, and there are as many of each
@@ -424,6 +455,13 @@ class IntermediateSurface(Discretization):
     own_multiplier = True
     fixed_multiplier = ("DG", 0)
 
+    def __init__(self, method: str):
+        """Rules of ``method``; :meth:`space` fills the segments of :meth:`points`."""
+        super().__init__(method)
+        self._segments: list[SubSegments] = []
+        self._rows = np.empty(0, dtype=np.int64)
+        self._lengths = np.empty(0)
+
     def check(self, contactor, targets, quadrature, multiplier) -> None:
         """Linear surfaces and the composite Gauss rule only."""
         super().check(contactor, targets, quadrature, multiplier)
@@ -437,18 +475,18 @@ class IntermediateSurface(Discretization):
         """``"M^0_{h,0} (intermediate)"``."""
         return "M^0_{h,0} (intermediate)"
 
-    def gathered(self, pair: ContactPair) -> list[SurfaceData]:
+    def gathered(self, pair: PairLike) -> list[SurfaceData]:
         """The whole targets: :meth:`space` cut its segments against them."""
         return [t.gather() for t in pair.targets]
 
-    def space(self, pair: ContactPair) -> MultiplierSpace:
+    def space(self, pair: PairLike) -> MultiplierSpace:
         """A mesh of the intermediate segments and a piecewise-constant multiplier on it."""
         cs, C, comm = pair.contactor, pair.contactor.data, pair.contactor.comm
         self._segments = []
         mids = []
-        for target in pair.targets:
+        for j, target in enumerate(pair.targets):
             T = target.gather()
-            seg = sub_segments(cs, target, T, pair.search_radius)
+            seg = typing.cast(SubSegments, pair.sub_segments(j, T))
             # Points midway between the contactor's sub-segment ends and their target points.
             rows = np.repeat(seg.contactor, 2)
             xi = np.stack([seg.lo, seg.hi], axis=1).reshape(-1)
@@ -479,7 +517,7 @@ class IntermediateSurface(Discretization):
             Q, element, np.empty(0, dtype=np.int32), np.zeros(len(C), dtype=bool)
         )
 
-    def points(self, pair: ContactPair, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
+    def points(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> list[PointGroups]:
         """The rule on the intermediate segments, mapped linearly onto the sub-segments."""
         s_ref, w_ref = pair.rule
         out, start = [], 0

@@ -23,8 +23,10 @@ integration points; the intermediate surface (section 4.4) has its own segment m
 A contactor may face several target surfaces (other bodies, or other parts of its own
 mesh): it carries one multiplier field for all of them, and the coupling is integrated
 against each target separately (:meth:`ContactPair.coupling_blocks`). The search
-(:mod:`dolfinx_contact_s2s.search`) and the kernels (:mod:`dolfinx_contact_s2s.kernels`)
-are batches over all points of the process.
+(:mod:`dolfinx_contact_s2s.search`), the segmentation
+(:mod:`dolfinx_contact_s2s.segmentation`, chosen by the contactor's facet dimension) and
+the kernels (:mod:`dolfinx_contact_s2s.kernels`) are batches over all points of the
+process.
 """
 
 from __future__ import annotations
@@ -34,12 +36,15 @@ from dataclasses import dataclass
 
 from mpi4py import MPI
 
+import dolfinx
 import numpy as np
 import numpy.typing as npt
+import ufl
 
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
 from dolfinx_contact_s2s.quadrature import RULES, interval_rule
-from dolfinx_contact_s2s.search import SubSegments, box_pairs, default_search_radius, sub_segments
+from dolfinx_contact_s2s.search import box_pairs, default_search_radius
+from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
 
 __all__ = [
@@ -117,6 +122,8 @@ class ContactPair:
         duplicates: Global multiplier dofs left out at construction (the second pass of
             the two-pass method: nodes meeting a target node); empty otherwise.
         search_radius: Largest normal distance at which facets are paired.
+        segmentation: The :class:`~dolfinx_contact_s2s.segmentation.Segmentation` of the
+            contactor's facet dimension (Fig. 15(b)).
     """
 
     def __init__(
@@ -159,6 +166,8 @@ class ContactPair:
         Raises:
             ValueError: On every rank, for an unknown or inconsistent choice, or a
                 contactor that is its own target.
+            NotImplementedError: On every rank, for a contactor whose facet dimension has
+                no segmentation (:func:`~dolfinx_contact_s2s.segmentation.get_segmentation`).
         """
         targets = [targets] if isinstance(targets, ContactSurface) else list(targets)
         if not targets:
@@ -175,6 +184,10 @@ class ContactPair:
         if weight not in ("unit", "tributary"):
             raise ValueError("weight must be 'unit' or 'tributary'")
         discretization = DISCRETIZATIONS[method](method)
+        self.segmentation = get_segmentation(contactor.facet_dim)
+        # Caches of :meth:`swept_boxes` and :meth:`multiplier_integrals`.
+        self._swept: tuple[SurfaceData, npt.NDArray[np.floating]] | None = None
+        self._multiplier_integrals: npt.NDArray[np.floating] | None = None
         if drop_coincident and not discretization.drops_coincident:
             raise ValueError("drop_coincident applies to node-to-segment only")
         self.contactor = contactor
@@ -251,13 +264,51 @@ class ContactPair:
         r"""The multiplier space in the notation of Eq. (16), e.g. ``M^1_{h,1}``."""
         return self.discretization.label(self.multiplier_continuous, self.multiplier_degree)
 
-    def sub_segments(self, target: int = 0) -> SubSegments:
-        """The sub-segments of the contactor facets against ``targets[target]`` (Fig. 15(b)).
+    def swept_boxes(self) -> npt.NDArray[np.floating]:
+        """Boxes of this process's contactor facets swept by the search radius (read-only).
 
-        Their target rows index ``targets[target].gather()``.
+        The candidate search of :meth:`sub_segments`, by :attr:`segmentation`; kept until
+        the contactor's :attr:`~ContactSurface.data` is replaced.
+        """
+        C = self.contactor.data
+        if self._swept is None or self._swept[0] is not C:
+            boxes = self.segmentation.sweep(C, self.contactor.bounding_boxes(C), self.search_radius)
+            boxes.setflags(write=False)
+            self._swept = (C, boxes)
+        return self._swept[1]
+
+    def sub_segments(self, target: int = 0, data: SurfaceData | None = None) -> Pieces:
+        """The pieces of the contactor facets against ``targets[target]`` (Fig. 15(b)).
+
+        Contactor facets whose swept boxes (:meth:`swept_boxes`) overlap target facet
+        boxes are cut by :attr:`segmentation`: :class:`SubSegments` for edges.
+
+        Args:
+            target: Index of the target in :attr:`targets`.
+            data: The target facets to cut against; defaults to
+                ``targets[target].gather()``. The target rows of the pieces index it.
         """
         t = self.targets[target]
-        return sub_segments(self.contactor, t, t.gather(), self.search_radius)
+        T = t.gather() if data is None else data
+        ic, it = box_pairs(self.swept_boxes(), t.bounding_boxes(T))
+        C = self.contactor.data
+        return self.segmentation.cut(C, T, ic, it, self.search_radius, self.contactor.backend)
+
+    def multiplier_integrals(self) -> npt.NDArray[np.floating]:
+        r"""The integrals :math:`|\int \mu_k|` of the owned multiplier basis functions.
+
+        Computed once (collective the first time): the multiplier space lives on a mesh
+        of its own, made with the pair, whose nodes nothing moves.
+        """
+        if self._multiplier_integrals is None:
+            Q = self.Q
+            form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
+            vector = dolfinx.fem.assemble_vector(form)
+            vector.scatter_reverse(dolfinx.la.InsertMode.add)
+            integrals = np.abs(vector.array[: Q.dofmap.index_map.size_local])
+            integrals.setflags(write=False)
+            self._multiplier_integrals = integrals
+        return self._multiplier_integrals
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.

@@ -2,23 +2,27 @@
 # SPDX-License-Identifier: MIT
 r"""Contact search: which contactor facets face which target facets, and where.
 
-Array stages shared by every discretization of :mod:`dolfinx_contact_s2s.pair`:
+Stages shared by every discretization of :mod:`dolfinx_contact_s2s.pair`, as functions
+that return new arrays and set nothing on their arguments:
 
-- candidate pairs of facets from bounding boxes padded by the search radius
-  (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`);
-- the sub-segments of the new algorithm (section 5, Fig. 15(b)): contactor facets cut
-  at the projections of the target's corner nodes (:func:`sub_segments`);
+- candidate pairs of facets from bounding boxes padded by the search radius, or swept
+  along the normals (:func:`box_pairs`, :func:`candidates`, :func:`swept_boxes`; the
+  sub-segments of Fig. 15(b) are cut from such candidates by
+  :mod:`dolfinx_contact_s2s.segmentation`);
 - the target point :math:`x_T^{i*}` met along the normal :math:`N = -n_C` from a
   contactor point (Eq. 38, Fig. 7(b)), the nearest over several target surfaces
   (:func:`find_targets`), and its distance to the nearest target node
   (:func:`node_offsets`, for node-to-node and the two-pass method).
 
-Target surfaces are passed with their facets gathered on every process
-(:meth:`~dolfinx_contact_s2s.surface.ContactSurface.gather`).
+Target facets are passed as arrays, gathered on every process
+(:meth:`~dolfinx_contact_s2s.surface.ContactSurface.gather`), with the kernels
+(:mod:`dolfinx_contact_s2s.kernels`) that evaluate them.
 """
 
 from __future__ import annotations
 
+import typing
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -27,40 +31,18 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.kernels import KernelBackend
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
     "Hits",
-    "SubSegments",
     "box_pairs",
     "candidates",
     "default_search_radius",
     "find_targets",
     "node_offsets",
-    "sub_segments",
     "swept_boxes",
 ]
-
-
-@dataclass(frozen=True)
-class SubSegments:
-    """Sub-segments of the contactor facets of one process against one target (Fig. 15(b)).
-
-    Attributes:
-        contactor: Row of the contactor facet in :attr:`ContactSurface.data`.
-        target: Row of the target facet in the gathered target data.
-        lo: Start of the sub-segment, as a contactor facet parameter in [0, 1].
-        hi: End of the sub-segment.
-    """
-
-    contactor: npt.NDArray[np.int32]
-    target: npt.NDArray[np.int32]
-    lo: npt.NDArray[np.floating]
-    hi: npt.NDArray[np.floating]
-
-    def __len__(self) -> int:
-        """Number of sub-segments."""
-        return self.contactor.size
 
 
 @dataclass(frozen=True)
@@ -116,42 +98,36 @@ def default_search_radius(contactor: ContactSurface, targets: Sequence[ContactSu
 
 
 def candidates(
-    boxes: npt.NDArray[np.floating], target: ContactSurface, T: SurfaceData, radius: float
+    boxes: npt.NDArray[np.floating], target_boxes: npt.NDArray[np.floating], radius: float
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
-    """Pairs (box, target facet) whose boxes overlap once ``boxes`` are padded by ``radius``."""
+    """Pairs (box, target box) that overlap once ``boxes`` are padded by ``radius``."""
     padded = boxes.copy()
     padded[:, 0] -= radius
     padded[:, 1] += radius
-    return box_pairs(padded, target.bounding_boxes(T))
+    return box_pairs(padded, target_boxes)
 
 
 def swept_boxes(
-    surface: ContactSurface, data: SurfaceData, radius: float
+    boxes: npt.NDArray[np.floating], coefficients: npt.NDArray[np.floating], radius: float
 ) -> npt.NDArray[np.floating]:
-    r"""Boxes of the facets moved by up to ``radius`` along their normals.
+    r"""Boxes of edges (facets of 2D cells) moved by up to ``radius`` along their normals.
 
-    A straight facet swept along :math:`\pm r \mathbf n` covers a parallelogram whose
-    box is the facet's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved
-    facet's box grows by :math:`r` in every direction. The boxes of the surface's own
-    facets are kept until :attr:`~ContactSurface.data` is replaced (read-only).
+    A straight edge swept along :math:`\pm r \mathbf n` covers a parallelogram whose
+    box is the edge's box grown by :math:`r |n_x|` and :math:`r |n_y|`; a curved edge's
+    box grows by :math:`r` in every direction.
+
+    Args:
+        boxes: The edges' boxes ``(F, 2, 2)``
+            (:meth:`~dolfinx_contact_s2s.surface.ContactSurface.bounding_boxes`).
+        coefficients: The edges' monomial coefficients ``(F, p + 1, 2)``.
+        radius: The search radius.
+
+    Returns:
+        New boxes ``(F, 2, 2)``.
     """
-    cached = getattr(surface, "_swept_boxes", None)
-    if cached is not None and cached[0] is data and cached[1] == radius:
-        return cached[2]
-    boxes = _swept_boxes(surface, data, radius)
-    if data is surface.data:
-        boxes.setflags(write=False)
-        surface._swept_boxes = (data, radius, boxes)
-    return boxes
-
-
-def _swept_boxes(
-    surface: ContactSurface, data: SurfaceData, radius: float
-) -> npt.NDArray[np.floating]:
-    """The boxes of :func:`swept_boxes`, computed."""
-    boxes = surface.bounding_boxes(data)
-    c = data.coefficients
-    pad = np.full((len(data), boxes.shape[2]), radius)
+    boxes = boxes.copy()
+    c = coefficients
+    pad = np.full((c.shape[0], boxes.shape[2]), radius)
     straight = np.all(c[:, 2:] == 0.0, axis=(1, 2))
     tangent = c[straight, 1]
     length = np.sqrt(np.einsum("fg,fg->f", tangent, tangent))[:, None]
@@ -161,68 +137,46 @@ def _swept_boxes(
     return boxes
 
 
-def sub_segments(
-    contactor: ContactSurface, target: ContactSurface, T: SurfaceData, radius: float
-) -> SubSegments:
-    """Cut the contactor facets at the projected target corner nodes (Fig. 15(b)).
-
-    Candidate pairs come from the boxes of the contactor facets swept along their
-    normals by the search radius (:func:`swept_boxes`) that overlap target facet boxes;
-    pairs whose outward normals do not oppose are dropped, and so are pieces
-    whose middle is farther than ``radius`` from the target facet along the normal.
-
-    Args:
-        contactor: The contactor surface (its process-local facets are cut).
-        target: The target surface.
-        T: The target's gathered facets.
-        radius: The search radius.
-    """
-    C, cs, ts = contactor.data, contactor, target
-    ic, it = box_pairs(swept_boxes(cs, C, radius), ts.bounding_boxes(T))
-    # No shortest length besides round-off: dropping a real piece between nodes of the
-    # two surfaces delta apart costs a consistency error of order delta in the pressure.
-    lo, hi, keep = cs.backend.clip_segments(
-        C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it, radius, 0.0
-    )
-    return SubSegments(ic[keep], it[keep], lo[keep], hi[keep])
-
-
 def _hits_on(
-    target: ContactSurface,
     T: SurfaceData,
+    boxes: npt.NDArray[np.floating],
+    backend: KernelBackend,
     x: npt.NDArray[np.floating],
     normals: npt.NDArray[np.floating],
     radius: float,
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32], npt.NDArray[np.floating]]:
     """Every (point, facet) of one target met along the normal, with the signed gap."""
-    ip, it = candidates(np.stack([x, x], axis=1), target, T, radius)
-    eta = target.intersect(T, it, x[ip], normals[ip])
+    ip, it = candidates(np.stack([x, x], axis=1), boxes, radius)
+    c = T.coefficients
+    eta = backend.intersect(c, it, x[ip], normals[ip])
     tol = 1e-10
     inside = (eta >= -tol) & (eta <= 1 + tol)
     eta = np.clip(eta, 0.0, 1.0)
-    _, x_t, _ = target.evaluate(T, it, eta)
+    x_t, _ = backend.evaluate(c, it, eta)
     gap = np.einsum("pg,pg->p", x[ip] - x_t, normals[ip])
-    facing = np.einsum("pg,pg->p", target.outward_normals(T, it, eta), normals[ip]) > 0
+    n_t = backend.outward_normals(c, T.orientation, it, eta)
+    facing = np.einsum("pg,pg->p", n_t, normals[ip]) > 0
     ok = inside & facing & (np.abs(gap) <= radius)
     return ip[ok], it[ok], gap[ok]
 
 
 def find_targets(
-    contactor: ContactSurface,
-    rows: npt.NDArray[np.int32],
-    xi: npt.NDArray[np.floating],
-    targets: Sequence[ContactSurface],
+    x: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
     gathered: Sequence[SurfaceData],
+    boxes: Sequence[npt.NDArray[np.floating]],
+    backends: Sequence[KernelBackend],
     radius: float,
 ) -> Hits:
-    """The target facet hit along the normal from each contactor point (Eq. 38, Fig. 7(b)).
+    r"""The target facet hit along the normal from each contactor point (Eq. 38, Fig. 7(b)).
 
     Args:
-        contactor: The contactor surface.
-        rows: Contactor facet row of each point.
-        xi: Contactor facet parameter of each point.
-        targets: The target surfaces.
-        gathered: Their gathered facets.
+        x: Contactor points, ``(P, gdim)``.
+        normals: The direction :math:`\mathbf N = -\mathbf n_C` at each point.
+        gathered: The facets of each target surface.
+        boxes: Their boxes
+            (:meth:`~dolfinx_contact_s2s.surface.ContactSurface.bounding_boxes`).
+        backends: The kernels of each target.
         radius: Largest normal distance of a hit.
 
     Returns:
@@ -230,10 +184,10 @@ def find_targets(
         target and facet each of them hits: the nearest over all targets (any one of
         them where several are equally near).
     """
-    C = contactor.data
-    _, x, _ = contactor.evaluate(C, rows, xi)
-    normals = -contactor.outward_normals(C, rows, xi)
-    found = [_hits_on(t, T, x, normals, radius) for t, T in zip(targets, gathered, strict=True)]
+    found = [
+        _hits_on(T, b, k, x, normals, radius)
+        for T, b, k in zip(gathered, boxes, backends, strict=True)
+    ]
     ip = np.concatenate([f[0] for f in found]).astype(np.int64)
     it = np.concatenate([f[1] for f in found]).astype(np.int32)
     gap = np.concatenate([f[2] for f in found])
@@ -246,18 +200,48 @@ def find_targets(
 
 
 def node_offsets(
-    contactor: ContactSurface,
-    rows: npt.NDArray[np.int32],
-    xi: npt.NDArray[np.floating],
-    target: ContactSurface,
+    x: npt.NDArray[np.floating],
+    normals: npt.NDArray[np.floating],
     T: SurfaceData,
     t_rows: npt.NDArray[np.int32],
+    degree: int,
+    backend: KernelBackend,
 ) -> npt.NDArray[np.floating]:
-    """Distance from each contactor point's target point to the nearest target node."""
-    C = contactor.data
-    _, x, _ = contactor.evaluate(C, rows, xi)
-    eta = target.intersect(T, t_rows, x, -contactor.outward_normals(C, rows, xi))
+    r"""Distance from each contactor point's target point to the nearest target node.
+
+    Args:
+        x: Contactor points, ``(P, gdim)``.
+        normals: The direction :math:`\mathbf N = -\mathbf n_C` at each point.
+        T: The target's facets.
+        t_rows: The target facet row each point meets.
+        degree: The target's displacement degree (its nodes on a facet).
+        backend: The target's kernels.
+    """
+    c = T.coefficients
+    eta = backend.intersect(c, t_rows, x, normals)
     # Facet parameters of the target's Lagrange nodes (P1: ends; P2: ends and middle).
-    nodes = np.linspace(0.0, 1.0, target.element.degree + 1)
+    nodes = np.linspace(0.0, 1.0, degree + 1)
     off = np.min(np.abs(eta[:, None] - nodes[None, :]), axis=1, initial=np.inf)
-    return off * target.sizes(T)[t_rows]
+    x0, _ = backend.evaluate(c, t_rows, np.zeros(t_rows.size))
+    x1, _ = backend.evaluate(c, t_rows, np.ones(t_rows.size))
+    return off * np.linalg.norm(x1 - x0, axis=1)
+
+
+def __getattr__(name: str) -> typing.Any:
+    """Names that moved to :mod:`dolfinx_contact_s2s.segmentation` in 0.3."""
+    if name == "SubSegments":
+        warnings.warn(
+            "dolfinx_contact_s2s.search.SubSegments is deprecated: import it from "
+            "dolfinx_contact_s2s.segmentation",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        from dolfinx_contact_s2s.segmentation import SubSegments
+
+        return SubSegments
+    if name == "sub_segments":
+        raise AttributeError(
+            "dolfinx_contact_s2s.search.sub_segments moved: use ContactPair.sub_segments, or "
+            "the cut of dolfinx_contact_s2s.segmentation.get_segmentation(facet_dim)"
+        )
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -204,7 +204,7 @@ class ContactSurface:
         self.cells = cells
         self.cell_type = basix.CellType[cell_name]
         self.element = scalar
-        self.backend = get_backend(backend, comm)
+        self.backend = get_backend(backend, comm, facet_dim=fdim)
         # Scalar Basix element of the coordinate map (tabulates derivatives).
         self.cmap = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element())
         ref_x = basix.geometry(self.cell_type)
@@ -243,6 +243,11 @@ class ContactSurface:
         # The geometry dofs of the facets' cells, to notice a mesh moved after this point.
         self._x_nodes = np.unique(x_dofs)
         self._x_start = self.V.mesh.geometry.x[self._x_nodes, :gdim].copy()
+        # Caches of :meth:`gather`, :meth:`gather_near` and :meth:`bounding_boxes`, each
+        # with the :attr:`data` it was made from: stale once :attr:`data` is replaced.
+        self._gathered: tuple[SurfaceData, SurfaceData] | None = None
+        self._near: tuple[SurfaceData | None, dict[bytes, SurfaceData]] = (None, {})
+        self._gathered_boxes: dict[int, tuple[SurfaceData, int, npt.NDArray[np.floating]]] = {}
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).
@@ -255,6 +260,15 @@ class ContactSurface:
         return self.comm.allreduce(not np.array_equal(now, self._x_start), op=MPI.LOR)
 
     @property
+    def facet_dim(self) -> int:
+        """Topological dimension of the facets (1: edges of 2D cells).
+
+        The key of the facet's segmentation
+        (:data:`~dolfinx_contact_s2s.segmentation.SEGMENTATIONS`) and kernels.
+        """
+        return self.V.mesh.topology.dim - 1
+
+    @property
     def comm(self) -> MPI.Comm:
         """Communicator of the body's mesh."""
         return self.V.mesh.comm
@@ -265,11 +279,11 @@ class ContactSurface:
         The gathered arrays are kept (read-only) until :attr:`data` is replaced on some
         process: every assembly of a pair reuses them without communication.
         """
-        cached = getattr(self, "_gathered", None)
+        cached = self._gathered
         fresh = cached is not None and cached[0] is self.data
         if self.comm.size > 1:
             fresh = self.comm.allreduce(fresh, op=MPI.LAND)
-        if fresh:
+        if fresh and cached is not None:
             return cached[1]
         gathered = _concatenate(self.comm.allgather(self.data))
         for array in vars(gathered).values():
@@ -290,7 +304,7 @@ class ContactSurface:
         if self.comm.size == 1:
             return self.gather()
         key = b"" if region is None else np.asarray(region, dtype=np.float64).tobytes()
-        data, cache = getattr(self, "_near", (None, {}))
+        data, cache = self._near
         if data is not self.data:
             cache = {}
         # Pairs that share this target ask for their own regions in turn: a few are kept.
@@ -413,12 +427,12 @@ class ContactSurface:
         covers the deviation of a quadratic facet from its sample points; those of
         straight facets are exact. The boxes of gathered facets are cached (read-only).
         """
-        gathered = getattr(self, "_gathered", (None, None))[1]
-        near = list(getattr(self, "_near", (None, {}))[1].values())
+        gathered = None if self._gathered is None else self._gathered[1]
+        near = list(self._near[1].values())
         if data is gathered or any(data is n for n in near):
             # The gathered facets change only with :attr:`data` (and the region of
             # :meth:`gather_near`): box them once.
-            cache = getattr(self, "_gathered_boxes", {})
+            cache = self._gathered_boxes
             boxes = cache.get(id(data))
             if boxes is None or boxes[0] is not data or boxes[1] != samples:
                 boxes = (

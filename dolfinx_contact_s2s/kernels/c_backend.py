@@ -27,9 +27,10 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
+from dolfinx_contact_s2s.kernels.numpy_backend import FACET_DIM, NEWTON_TOL, ROUND_OFF
 
 __all__ = [
+    "FACET_DIM",
     "NEWTON_TOL",
     "ROUND_OFF",
     "bounding_boxes",

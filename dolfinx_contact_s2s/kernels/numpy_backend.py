@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "FACET_DIM",
     "NEWTON_TOL",
     "ROUND_OFF",
     "bounding_boxes",
@@ -53,6 +54,10 @@ NEWTON_TOL = 1e-10
 #: chord, in the facet parameter) is a sliver made by round-off, between nodes that
 #: coincide, and is dropped (:func:`clip_segments`).
 ROUND_OFF = 32 * np.finfo(np.float64).eps
+
+#: Topological dimension of the facets these kernels handle: edges of 2D cells,
+#: parametrised by :math:`\xi \in [0, 1]`.
+FACET_DIM = 1
 
 
 def facet_coefficients(basis: _Array, local_facet: npt.NDArray[np.int32], coords: _Array) -> _Array:
