@@ -22,7 +22,6 @@ Target facets are passed as arrays, gathered on every process
 from __future__ import annotations
 
 import typing
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -227,21 +226,19 @@ def node_offsets(
     return off * np.linalg.norm(x1 - x0, axis=1)
 
 
+class _MovedName(ImportError, AttributeError):
+    """A name that left this module: an ImportError for ``from``, an AttributeError for ``.``."""
+
+
+_MOVED = {
+    "SubSegments": "import it from dolfinx_contact_s2s (or dolfinx_contact_s2s.segmentation)",
+    "sub_segments": "use ContactPair.sub_segments, or the cut of "
+    "dolfinx_contact_s2s.segmentation.get_segmentation(facet_dim)",
+}
+
+
 def __getattr__(name: str) -> typing.Any:
     """Names that moved to :mod:`dolfinx_contact_s2s.segmentation` in 0.3."""
-    if name == "SubSegments":
-        warnings.warn(
-            "dolfinx_contact_s2s.search.SubSegments is deprecated: import it from "
-            "dolfinx_contact_s2s.segmentation",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        from dolfinx_contact_s2s.segmentation import SubSegments
-
-        return SubSegments
-    if name == "sub_segments":
-        raise AttributeError(
-            "dolfinx_contact_s2s.search.sub_segments moved: use ContactPair.sub_segments, or "
-            "the cut of dolfinx_contact_s2s.segmentation.get_segmentation(facet_dim)"
-        )
+    if name in _MOVED:
+        raise _MovedName(f"dolfinx_contact_s2s.search.{name} moved in 0.3: {_MOVED[name]}")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -9,7 +9,8 @@ Reads the source with :mod:`ast` (nothing is imported, so no DOLFINx is needed).
 import of a library module counts: at module level, inside functions, and under
 ``typing.TYPE_CHECKING``. A module's layer is 0 if it imports no library module, else
 one more than the highest layer it imports, so in a graph without circles every import
-runs from a higher layer to a lower one. With ``--check`` the exit status is 1 if there
+runs from a higher layer to a lower one. A module's import of the packages it sits in
+is not counted (Python runs them first in any case). With ``--check`` the exit status is 1 if there
 is a circle, a module longer than ``--max-lines`` or a library longer than
 ``--max-total`` lines.
 """
@@ -47,12 +48,15 @@ def imports(path: pathlib.Path, name: str, modules: set[str]) -> set[str]:
                 anchor = package.split(".")
                 anchor = anchor[: len(anchor) - (node.level - 1)]
                 base = ".".join(anchor + ([base] if base else []))
-            # ``from pkg import sub`` imports the submodule ``pkg.sub``.
-            targets = [f"{base}.{alias.name}" for alias in node.names] + [base]
+            # ``from pkg import sub`` imports the submodule ``pkg.sub``; ``pkg`` itself
+            # counts only for a name that is not a submodule.
+            subs = [f"{base}.{alias.name}" for alias in node.names]
+            targets = subs + ([] if all(t in modules for t in subs) else [base])
         for target in targets:
             while target and target not in modules:
                 target = target.rpartition(".")[0]
-            if target and target != name and target != PACKAGE:
+            # A module's own packages run before it anyway: no edge to them.
+            if target and not (name == target or name.startswith(target + ".")):
                 found.add(target)
     return found
 
