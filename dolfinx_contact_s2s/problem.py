@@ -365,6 +365,7 @@ class LinearContactProblem:
                     "all its targets to one pair, contact_pair(contactor, [target_a, target_b])"
                 )
             seen[key] = j
+        checks.check_cover(self.pairs)
 
     # --- assembly -------------------------------------------------------------------
 
