@@ -122,3 +122,25 @@ def test_split_at_a_node_with_both_targets_passes():
     e_sig, e_lam, tol = patch_errors(model, pairs)
     assert e_lam <= tol <= BOUND
     assert e_sig <= tol
+
+
+def test_interval_arithmetic():
+    from dolfinx_contact_s2s.checks.cover import _merge, _subtract
+
+    rows = np.array([1, 0, 1, 1, 0], dtype=np.int32)
+    lo = np.array([0.5, 0.0, 0.0, 0.2, 0.6])
+    hi = np.array([0.7, 0.3, 0.3, 0.4, 1.0])
+    merged = _merge(rows, lo, hi)
+    assert merged[0].tolist() == [0, 0, 1, 1]
+    np.testing.assert_array_equal(merged[1], [0.0, 0.6, 0.0, 0.5])
+    np.testing.assert_array_equal(merged[2], [0.3, 1.0, 0.4, 0.7])
+    # Pieces facing another surface, less the cover: what is left unconstrained.
+    r, a, b = _subtract(
+        np.array([0, 1, 2], dtype=np.int32),
+        np.array([0.1, 0.0, 0.2]),
+        np.array([0.9, 1.0, 0.5]),
+        merged,
+    )
+    assert r.tolist() == [0, 1, 1, 2]
+    np.testing.assert_allclose(a, [0.3, 0.4, 0.7, 0.2])
+    np.testing.assert_allclose(b, [0.6, 0.5, 1.0, 0.5])

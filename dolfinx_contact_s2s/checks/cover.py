@@ -52,7 +52,7 @@ class Unconstrained:
         targets: Tags of the pair's own targets.
         faces: Tags of the other contact surfaces these parts face.
         facets: Number of contactor facets with such a part.
-        length: Total length of the parts.
+        length: Total length of the parts (parameter length times facet chord).
         facet_ends: End points of those facets, ``(facets, 2, gdim)``, sorted.
         parts: End points of the parts, ``(n, 2, gdim)``, sorted.
     """
@@ -77,18 +77,15 @@ def _merge(
     """Union of the intervals ``[lo, hi]`` on each facet ``rows``, sorted by facet."""
     if rows.size == 0:
         return rows, lo, hi
-    # Parameters lie in [0, 1]: shifted by twice the facet row, the facets never mix.
-    a = 2.0 * rows + lo
-    b = 2.0 * rows + hi
-    order = np.argsort(a, kind="stable")
-    a, b = a[order], b[order]
-    reach = np.maximum.accumulate(b)
-    start = np.ones(a.size, dtype=bool)
-    start[1:] = a[1:] > reach[:-1]
+    order = np.lexsort((lo, rows))
+    rows, lo, hi = rows[order], lo[order], hi[order]
+    # Parameters lie in [0, 1]: shifted by twice the facet row, the facets never mix in
+    # the running end (the shift serves the comparison only, the values stay exact).
+    reach = np.maximum.accumulate(2.0 * rows + hi)
+    start = np.ones(rows.size, dtype=bool)
+    start[1:] = 2.0 * rows[1:] + lo[1:] > reach[:-1]
     first = np.flatnonzero(start)
-    last = np.append(first[1:], a.size) - 1
-    merged_rows = rows[order][first]
-    return merged_rows, a[first] - 2.0 * merged_rows, reach[last] - 2.0 * merged_rows
+    return rows[first], lo[first], np.maximum.reduceat(hi, first)
 
 
 def _subtract(
@@ -178,10 +175,15 @@ def unconstrained_parts(pairs: Sequence[ContactPair]) -> list[Unconstrained]:
         scale = np.maximum(np.max(np.abs(x0), axis=1, initial=0.0), np.max(np.abs(x1), axis=1))
         with np.errstate(divide="ignore", invalid="ignore"):
             shortest = np.maximum(COVER_TOL, ROUND_OFF * (scale + sizes) / sizes)
+        # Facets their own targets cover whole (the usual case) need no interval arithmetic.
+        whole = np.zeros(n, dtype=bool)
+        ends = (cover[1] <= shortest[cover[0]]) & (cover[2] >= 1.0 - shortest[cover[0]])
+        whole[cover[0][ends]] = True
         rows, lo, hi, faces = [], [], [], []
         for other in others:
             s = sub_segments(cs, other, other.gather(), radius)
-            r, a, b = _subtract(s.contactor, s.lo, s.hi, cover)
+            open_ = ~whole[s.contactor]
+            r, a, b = _subtract(s.contactor[open_], s.lo[open_], s.hi[open_], cover)
             keep = b - a > shortest[r]
             rows.append(r[keep])
             lo.append(a[keep])
