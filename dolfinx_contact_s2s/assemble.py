@@ -199,9 +199,13 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
     comm = pair.contactor.comm
     backend = pair.contactor.backend
     if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:
+        targets = ", ".join(str(t.tag) for t in pair.targets)
         raise ValueError(
             "the contactor and target surfaces never face each other within the search "
-            f"radius {pair.search_radius:g}: there is nothing to integrate"
+            f"radius (contactor tag {pair.contactor.tag}, target tag(s) {targets}): there is "
+            "nothing to integrate. Check which side is which (their outward normals must "
+            "oppose), or pass a larger search_radius= to contact_pair (now "
+            f"{pair.search_radius:g})"
         )
     q_map = pair.Q.dofmap.index_map
     spaces: list[dolfinx.fem.FunctionSpace] = []

@@ -403,14 +403,27 @@ def contact_pairs(
 ) -> list[ContactPair]:
     """The contact pairs of a discretization: one, or more for a two-pass method.
 
+    Give every pair returned to the problem, e.g.
+    ``LinearContactProblem(a, L, contact_pairs(c, t, method=...), bcs, ...)``.
+
     Args:
-        contactor: First surface (the contactor of the first pass).
-        targets: Second surface, or several.
-        method: One of :data:`METHODS`, or ``"two-pass node-to-segment"`` (section 4.3):
-            node-to-segment with the contactor against the targets, then each target
-            against the contactor without the constraints of nodes that coincide with
-            nodes of the first (within :math:`10^{-8}` of the element size).
-        options: Further arguments of :class:`ContactPair`.
+        contactor: First surface (the contactor of the first pass), from
+            :func:`~dolfinx_contact_s2s.surface.contact_surface`.
+        targets: Second surface, or a list of several.
+        method: One of :data:`METHODS` (see :func:`contact_pair`), giving one pair, or
+            ``"two-pass node-to-segment"`` (section 4.3), giving ``1 + len(targets)``
+            pairs: node-to-segment with the contactor against the targets, then each
+            target against the contactor without the constraints of nodes that coincide
+            with nodes of the first (within :math:`10^{-8}` of the element size).
+        **options: Keyword arguments of :func:`contact_pair`: ``multiplier``,
+            ``quadrature``, ``quadrature_points``, ``weight`` and ``search_radius``,
+            given to every pair.
+
+    Returns:
+        The list of :class:`ContactPair`.
+
+    Raises:
+        ValueError: On every rank, as :func:`contact_pair`.
     """
     if method == "two-pass node-to-segment":
         targets = [targets] if isinstance(targets, ContactSurface) else list(targets)
@@ -433,7 +446,69 @@ def contact_pair(
     weight: str = "unit",
     search_radius: float | None = None,
 ) -> ContactPair:
-    """Create a :class:`ContactPair` (see its constructor for the arguments)."""
+    r"""A contactor surface, its target surface(s) and a contact discretization (collective).
+
+    The contactor :math:`\Gamma_C` carries the multiplier :math:`\lambda` (the contact
+    pressure, positive in compression); the coupling of Eq. (17) is integrated wherever
+    the contactor faces a target along its normal. A contactor that faces several
+    surfaces takes them all in one pair, ``contact_pair(contactor, [target_a,
+    target_b])``: one multiplier field for all of them. A contactor part facing no
+    target carries no constraint; a part facing another pair's surface but none of its
+    own targets is an error of the problem (:func:`~dolfinx_contact_s2s.checks.check_cover`).
+
+    Args:
+        contactor: Surface :math:`\Gamma_C` carrying the multiplier, from
+            :func:`~dolfinx_contact_s2s.surface.contact_surface`.
+        targets: Target surface :math:`\Gamma_T`, or a list of several: on other meshes,
+            or other surfaces of the contactor's own mesh and space.
+        method: The discretization, one of :data:`METHODS`:
+            ``"segment-to-segment"`` (the default, section 5, Eqs. 40-42: the new
+            algorithm with composite quadrature; passes the patch and inf-sup tests),
+            ``"node-to-segment"`` (Eqs. 38-39: one constraint per contactor node),
+            ``"node-to-segment-gauss"`` (the constraint at the Gauss points of the
+            contactor segments, one multiplier per point), ``"node-to-node"`` (Eq. 37,
+            coincident nodes only) or ``"intermediate-surface"`` (section 4.4, linear
+            surfaces). For the two-pass method use :func:`contact_pairs`.
+        multiplier: The multiplier space of Eq. (16): ``("Lagrange", s)`` for
+            :math:`\mathcal M^1_{h,s}` (continuous, :math:`s \ge 1`) or ``("DG", s)`` for
+            :math:`\mathcal M^0_{h,s}` (discontinuous, :math:`s \ge 0`), on the contactor
+            facets. Default ``None``: continuous, of the contactor's displacement degree.
+            The node-based methods and the intermediate surface define their own and
+            need the default.
+        quadrature: The rule integrating Eq. (17), one of
+            :data:`~dolfinx_contact_s2s.quadrature.RULES`: ``"composite-gauss"`` or
+            ``"composite-newton-cotes"`` on the sub-segments bounded by the nodes of both
+            surfaces (Fig. 15(b)-(c)), ``"gauss"`` or ``"newton-cotes"`` on the contactor
+            segments (Fig. 15(a), fails the patch test on non-matching meshes). Default
+            ``None``: ``"composite-gauss"`` (``"gauss"`` for
+            ``"node-to-segment-gauss"``).
+        quadrature_points: Points per (sub-)segment. Default ``None``: the fewest that
+            integrate Eq. (17) exactly on straight segments, plus one per curved
+            geometry degree (Gauss: :math:`\lfloor (s + k + 2c)/2 \rfloor + 1` for
+            multiplier degree :math:`s`, displacement degree :math:`k` and
+            :math:`c` curved geometry degrees; Newton-Cotes: :math:`s + k + 1`).
+        weight: For ``"node-to-segment"``: ``"unit"`` (the default, :math:`w^i = 1`: the
+            multiplier is a nodal force) or ``"tributary"`` (the node's tributary
+            length: the multiplier is a pressure), Eq. (39).
+        search_radius: The largest normal distance (gap or overlap) at which a
+            contactor facet and a target facet are paired, in the mesh's length unit: a
+            contactor point meets a target only within this distance along its normal.
+            Default ``None``: the largest facet length (chord) of the contactor and all
+            targets, over all processes. Pass a larger value for surfaces that start
+            farther apart, a smaller one where a surface must not reach a far one.
+
+    Returns:
+        The :class:`ContactPair`, with its multiplier space ``Q`` (a DOLFINx function
+        space on a submesh of the contactor facets).
+
+    Raises:
+        ValueError: On every rank: an unknown ``method``, ``quadrature`` or ``weight``;
+            a multiplier family other than Lagrange or DG or a bad degree; a multiplier
+            or quadrature the method cannot use; non-matching meshes for
+            ``"node-to-node"``; a ``search_radius`` that is not positive and finite; no
+            target, a contactor that is its own target, or surfaces on different
+            communicators.
+    """
     return ContactPair(
         contactor,
         targets,

@@ -534,5 +534,37 @@ def contact_surface(
     *,
     backend: str = "auto",
 ) -> ContactSurface:
-    """Create the :class:`ContactSurface` of facets marked ``tag`` on the mesh of ``V``."""
+    """The contact surface of the facets marked ``tag`` on the mesh of ``V`` (collective).
+
+    A surface is one side of one body: the boundary facets of a Gmsh physical group,
+    say. Pass it to :func:`~dolfinx_contact_s2s.pair.contact_pair` as a contactor or a
+    target. Create it after the mesh has its final coordinates: a pair raises if the
+    mesh moved afterwards.
+
+    Args:
+        V: The body's displacement space: a vector-valued continuous Lagrange space of
+            degree 1 or 2, ``("Lagrange", k, (2,))``, on a 2D triangle or
+            quadrilateral mesh with ``gdim=2`` (affine or quadratic geometry). It must be
+            the space of the problem's form ``a`` (the same object).
+        facet_tags: Facet markers (a :class:`dolfinx.mesh.MeshTags` of dimension 1) of
+            the mesh of ``V``, e.g. those of the Gmsh reader.
+        tag: The marker of the contact facets; they must lie on the boundary of the
+            mesh. Facets owned by other processes are found by them.
+        backend: The kernel backend of the facet geometry and the coupling:
+            ``"auto"`` (the default: ``$S2S_KERNEL_BACKEND`` if set, else the compiled
+            C kernels when CFFI and a C compiler work, else NumPy with a one-line
+            notice), ``"c"`` or ``"numpy"``; see
+            :func:`~dolfinx_contact_s2s.kernels.get_backend`.
+
+    Returns:
+        The :class:`ContactSurface` of this process's owned tagged facets.
+
+    Raises:
+        ValueError: On every rank: no process holds a facet marked ``tag``; a tagged
+            facet is not on the boundary; ``facet_tags`` are not facet tags or belong
+            to another mesh; ``V`` is not a vector Lagrange space of degree 1 or 2 on a
+            2D triangle or quadrilateral mesh in the plane; a tagged facet has a node
+            with NaN or infinite coordinates, or zero length; an unknown ``backend``.
+        RuntimeError: On every rank, if ``backend="c"`` cannot be compiled.
+    """
     return ContactSurface(V, facet_tags, tag, backend=backend)

@@ -130,6 +130,7 @@ def check_pairs(pairs: Sequence[ContactPair], space_index: SpaceIndex) -> None:
                 "all its targets to one pair, contact_pair(contactor, [target_a, target_b])"
             )
         seen[key] = j
+    checks.check_cover(pairs)
 
 
 def all_symmetric(stiffness: Sequence[PETSc.Mat]) -> bool:

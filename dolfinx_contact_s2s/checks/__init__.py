@@ -54,12 +54,21 @@ number of degrees of freedom:
   :func:`joint_redundant_multipliers` do the same for the rows of several pairs
   stacked: each pair may have full row rank while two pairs together constrain a
   motion twice (the passes of a two-pass method).
+* :func:`check_cover`: a contactor part that faces another pair's surface but none of
+  its own pair's targets is constrained by nothing (a contactor side split into two
+  tags with a facet lying over both targets); raised at problem construction.
 
 Every function is collective on the communicator of its arguments and returns the same
 result on every process. The package needs petsc4py and is imported explicitly.
 """
 
 from dolfinx_contact_s2s.checks.bodies import connected_components, near_nullspace, rigid_body_modes
+from dolfinx_contact_s2s.checks.cover import (
+    COVER_TOL,
+    Unconstrained,
+    check_cover,
+    unconstrained_parts,
+)
 from dolfinx_contact_s2s.checks.rank import (
     REDUNDANT_TOL,
     Redundancy,
@@ -78,12 +87,15 @@ from dolfinx_contact_s2s.checks.support import (
 )
 
 __all__ = [
+    "COVER_TOL",
     "REDUNDANT_TOL",
     "UNSUPPORTED_TOL",
     "Redundancy",
     "RigidMotion",
     "SupportGram",
+    "Unconstrained",
     "UnsupportedMotion",
+    "check_cover",
     "connected_components",
     "joint_redundant_constraints",
     "joint_redundant_multipliers",
@@ -92,5 +104,6 @@ __all__ = [
     "redundant_multipliers",
     "rigid_body_modes",
     "support_gram",
+    "unconstrained_parts",
     "unsupported_motions",
 ]
