@@ -226,10 +226,6 @@ def node_offsets(
     return off * np.linalg.norm(x1 - x0, axis=1)
 
 
-class _MovedName(ImportError, AttributeError):
-    """A name that left this module: an ImportError for ``from``, an AttributeError for ``.``."""
-
-
 _MOVED = {
     "SubSegments": "import it from dolfinx_contact_s2s (or dolfinx_contact_s2s.segmentation)",
     "sub_segments": "use ContactPair.sub_segments, or the cut of "
@@ -238,7 +234,10 @@ _MOVED = {
 
 
 def __getattr__(name: str) -> typing.Any:
-    """Names that moved to :mod:`dolfinx_contact_s2s.segmentation` in 0.3."""
+    """Names that moved to :mod:`dolfinx_contact_s2s.segmentation` in 0.3.
+
+    An ImportError, not an AttributeError: ``from ... import`` shows its message.
+    """
     if name in _MOVED:
-        raise _MovedName(f"dolfinx_contact_s2s.search.{name} moved in 0.3: {_MOVED[name]}")
+        raise ImportError(f"dolfinx_contact_s2s.search.{name} moved in 0.3: {_MOVED[name]}")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

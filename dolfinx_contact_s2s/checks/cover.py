@@ -11,7 +11,7 @@ split into two tags at the facet midpoints, each paired with the body under it, 
 one facet lies over both bodies (Fig. 3 of the paper with the joint inside a facet).
 
 :func:`unconstrained_parts` finds those parts with the sub-segments of the search
-(:func:`~dolfinx_contact_s2s.search.sub_segments`, Fig. 15(b)), whatever the
+(the pair's :attr:`~dolfinx_contact_s2s.pair.ContactPair.segmentation`, Fig. 15(b)), whatever the
 discretization; :func:`check_cover` raises on them. Both are collective and return or
 raise the same on every process.
 """
@@ -28,7 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.kernels.numpy_backend import ROUND_OFF
-from dolfinx_contact_s2s.search import sub_segments
+from dolfinx_contact_s2s.search import box_pairs
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.pair import ContactPair
@@ -132,6 +132,14 @@ def _sorted_points(points: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]
     return points[np.lexsort(flat.T[::-1])]
 
 
+def _pieces(pair: ContactPair, surface: ContactSurface) -> typing.Any:
+    """The pieces of ``pair``'s contactor against ``surface``, as against one of its targets."""
+    T = surface.gather()
+    ic, it = box_pairs(pair.swept_boxes(), surface.bounding_boxes(T))
+    C = pair.contactor.data
+    return pair.segmentation.cut(C, T, ic, it, pair.search_radius, pair.contactor.backend)
+
+
 def unconstrained_parts(pairs: Sequence[ContactPair]) -> list[Unconstrained]:
     """Contactor parts that face other contact surfaces of ``pairs`` but not their targets.
 
@@ -154,13 +162,13 @@ def unconstrained_parts(pairs: Sequence[ContactPair]) -> list[Unconstrained]:
             surfaces.setdefault(_key(surface), surface)
     found = []
     for j, pair in enumerate(pairs):
-        cs, radius = pair.contactor, pair.search_radius
+        cs = pair.contactor
         own = {_key(cs), *(_key(t) for t in pair.targets)}
         others = [s for k, s in surfaces.items() if k not in own]
         if not others:
             continue
         C = cs.data
-        pieces = [sub_segments(cs, t, t.gather(), radius) for t in pair.targets]
+        pieces = [pair.sub_segments(k) for k in range(len(pair.targets))]
         cover = _merge(
             np.concatenate([p.contactor for p in pieces]).astype(np.int32),
             np.concatenate([p.lo for p in pieces]),
@@ -181,7 +189,7 @@ def unconstrained_parts(pairs: Sequence[ContactPair]) -> list[Unconstrained]:
         whole[cover[0][ends]] = True
         rows, lo, hi, faces = [], [], [], []
         for other in others:
-            s = sub_segments(cs, other, other.gather(), radius)
+            s = _pieces(pair, other)
             open_ = ~whole[s.contactor]
             r, a, b = _subtract(s.contactor[open_], s.lo[open_], s.hi[open_], cover)
             keep = b - a > shortest[r]
