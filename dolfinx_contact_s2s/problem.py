@@ -32,6 +32,13 @@ import ufl
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
+
+# h2: the input checks (solver types, argument order, stiffness) live in checks/inputs.py
+from dolfinx_contact_s2s.checks.inputs import (
+    check_problem_arguments,
+    check_solver_types,
+    check_stiffness,
+)
 from dolfinx_contact_s2s.la import is_symmetric
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
@@ -198,6 +205,8 @@ class LinearContactProblem:
             ValueError: On every rank, for inconsistent input or a mesh with NaN or
                 infinite coordinates.
         """
+        # h2: the types of a, L, pairs and bcs (a swap of pairs and bcs) raise TypeError
+        check_problem_arguments(a, L, pairs, bcs, type(self).__name__)
         a, L = _as_list(a), _as_list(L)
         if len(a) != len(L) or not a:
             raise ValueError("give one bilinear and one linear form per displacement space")
@@ -267,6 +276,8 @@ class LinearContactProblem:
         #: system, e.g. :class:`dolfinx_contact_s2s.fieldsplit.SchurComplementSetup`.
         self.solver_setup: typing.Callable[[LinearContactProblem], None] | None = None
         self.options = PETScOptions(petsc_options_prefix, petsc_options, self._default_options())
+        # h2: an unknown ksp, pc or snes type raises ValueError on every rank, before PETSc
+        check_solver_types(self.options, self.comm)
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
 
@@ -445,6 +456,8 @@ class LinearContactProblem:
             self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
             self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
             self._owned.extend(self._masks + self._values)
+            # h2: a body with zero (or negative) stiffness raises before any factorization
+            check_stiffness(self.spaces, self._K, self._masks, self._labels)
         with self._timed("contact"):
             self.operators = [assemble_coupling(pair) for pair in self.pairs]
         for j, op in enumerate(self.operators):
