@@ -33,7 +33,8 @@ from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
 
-# h2: the input checks (solver types, argument order, stiffness) live in checks/inputs.py
+# h2: the input checks and the advice on singular or tied problems live in checks/
+from dolfinx_contact_s2s.checks.advice import unsupported_error, warn_tied_gaps
 from dolfinx_contact_s2s.checks.inputs import (
     check_problem_arguments,
     check_solver_types,
@@ -648,12 +649,8 @@ class LinearContactProblem:
         )
         motions = self._support.motions([op.inactive for op in self.operators])
         if motions:
-            lines = "\n".join(f"  - {m.describe()}" for m in motions)
-            raise ValueError(
-                "the problem is singular: these rigid motions meet no Dirichlet condition, "
-                f"no contact constraint and no stiffness (Eq. 33):\n{lines}\n"
-                "Add a Dirichlet condition (or a contact pair) that holds each of them."
-            )
+            # h2: the error names the Dirichlet condition frictionless contact cannot replace
+            raise unsupported_error(motions, self._support)
 
     def _check_redundancy(self, masks: list[PETSc.Vec]) -> None:
         constraints = [[(self.space_index(V), B) for V, B in op.blocks] for op in self.operators]
@@ -744,6 +741,8 @@ class LinearContactProblem:
         """
         self.assemble()
         self._solve_system()
+        # h2: a tied pair that closed open initial gaps by tension gets a UserWarning
+        warn_tied_gaps(self)
         return self.u, self.multipliers
 
     def _solve_system(self) -> None:
