@@ -8,7 +8,7 @@ import dolfinx
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s import contact_pair, contact_surface
 
 
 def _tags(mesh, marks):
@@ -27,7 +27,8 @@ def quad_tri_patch(comm=MPI.COMM_WORLD, lower=13, upper=9, sides=4, E=1.0, nu=0.
     Lower block [0, 1] x [0, 0.5] (``lower`` quadrilaterals along the contact), upper
     block [0, 1] x [0.5, 1] (``upper`` triangles along it), pressure 1 on top, both left
     sides held horizontally, the lower block's bottom vertically. Returns ``a, L, pairs,
-    bcs`` (two spaces, one pair: the upper block's bottom is the contactor).
+    bcs`` (two spaces, one pair: the upper block's bottom is the contactor). ``E`` may be
+    a pair, one value per block, in the forms as a user writes them.
     """
     bodies = []
     for y0, n, cell in (
@@ -45,10 +46,15 @@ def quad_tri_patch(comm=MPI.COMM_WORLD, lower=13, upper=9, sides=4, E=1.0, nu=0.
         )
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
         bodies.append((mesh, tags, V))
-    material = Material(E=E, nu=nu)
     a, L, bcs = [], [], []
     for k, (mesh, tags, V) in enumerate(bodies):
-        ak, _, v = material.forms(V)
+        # E per body (a pair of values) enters the user's own form.
+        Ek = dolfinx.fem.Constant(mesh, float(E[k] if np.ndim(E) else E))
+        u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+        mu, lmbda = Ek / (2 * (1 + nu)), Ek * nu / ((1 + nu) * (1 - 2 * nu))
+        eps = ufl.sym(ufl.grad(u))
+        sigma = 2 * mu * eps + lmbda * ufl.tr(eps) * ufl.Identity(2)
+        ak = ufl.inner(sigma, ufl.sym(ufl.grad(v))) * ufl.dx
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
         load = dolfinx.fem.Constant(mesh, np.array([0.0, -1.0 if k == 1 else 0.0]))
         a.append(ak)

@@ -231,15 +231,15 @@ def check_stiffness(
         for b, (hi, lo) in enumerate(zip(largest, smallest, strict=True)):
             if not np.isfinite(hi):
                 continue  # no free dof: held by Dirichlet conditions alone
-            if hi <= 1e-14 * scale or hi <= 0.0:
-                raise ValueError(
-                    f"the stiffness of body {b} of space {i} is zero (largest diagonal entry "
-                    f"of K on its free dofs: {hi:.3g}): check E in your form a[{i}] (a zero "
-                    "Young's modulus, or a material coefficient that vanishes on this body)"
-                )
             if lo < 0.0:
                 raise ValueError(
                     f"the stiffness of body {b} of space {i} is not positive (a diagonal entry "
                     f"of K on its free dofs is {lo:.3g}): check E in your form a[{i}] (a "
                     "negative Young's modulus, or a form with the wrong sign)"
+                )
+            if hi <= 1e-14 * scale or hi <= 0.0:
+                raise ValueError(
+                    f"the stiffness of body {b} of space {i} is zero (largest diagonal entry "
+                    f"of K on its free dofs: {hi:.3g}): check E in your form a[{i}] (a zero "
+                    "Young's modulus, or a material coefficient that vanishes on this body)"
                 )
