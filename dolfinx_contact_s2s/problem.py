@@ -25,6 +25,8 @@ import ufl
 
 from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s.assemble import CouplingOperator
+from dolfinx_contact_s2s.checks.advice import warn_tied_gaps
+from dolfinx_contact_s2s.checks.inputs import check_problem_arguments
 from dolfinx_contact_s2s.options import PETScOptions
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.system import DEFAULT_OPTIONS, TIMINGS, ContactSystem
@@ -357,7 +359,10 @@ class LinearContactProblem(ContactProblemBase):
         Raises:
             ValueError: On every rank, for inconsistent input or a mesh with NaN or
                 infinite coordinates.
+            TypeError: If ``a``, ``L``, ``pairs`` or ``bcs`` is not what it should be
+                (e.g. ``pairs`` and ``bcs`` swapped).
         """
+        check_problem_arguments(a, L, pairs, bcs, type(self).__name__)
         super().__init__(
             ContactSystem(
                 a,
@@ -402,4 +407,5 @@ class LinearContactProblem(ContactProblemBase):
         """
         self.assemble()
         self._system.solve()
+        warn_tied_gaps(self)
         return self.u, self.multipliers

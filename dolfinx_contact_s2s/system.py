@@ -35,6 +35,7 @@ import ufl
 from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
+from dolfinx_contact_s2s.checks.inputs import check_solver_types, check_stiffness
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
     PETScOptions,
@@ -205,6 +206,8 @@ class ContactSystem:
         self._solver_setup: Callable[[ContactSystem], None] | None = None
         defaults = dict(DEFAULT_OPTIONS) if default_options is None else dict(default_options)
         self.options = PETScOptions(petsc_options_prefix, petsc_options, defaults)
+        # An unknown type would stop PETSc with a traceback that differs between ranks.
+        check_solver_types(self.options, self.comm)
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
 
@@ -378,6 +381,8 @@ class ContactSystem:
             self._masks = [self.dirichlet_mask(i) for i in range(len(self.spaces))]
             self._values = [self.dirichlet_values(i) for i in range(len(self.spaces))]
             self._owned.extend(self._masks + self._values)
+            # Before any factorization: MUMPS would report a zero body as lost workspace.
+            check_stiffness(self.spaces, self._K, self._masks, self._labels)
         with self.timed("contact"):
             self.operators = [assemble_coupling(pair) for pair in self.pairs]
         for j, op in enumerate(self.operators):

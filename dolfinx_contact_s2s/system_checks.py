@@ -28,6 +28,7 @@ import ufl
 
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s.assemble import CouplingOperator
+from dolfinx_contact_s2s.checks.advice import unsupported_error
 from dolfinx_contact_s2s.la import is_symmetric
 from dolfinx_contact_s2s.options import solver_failure
 from dolfinx_contact_s2s.pair import ContactPair
@@ -191,12 +192,7 @@ def check_support(
     )
     motions = support.motions([op.inactive for op in operators])
     if motions:
-        lines = "\n".join(f"  - {m.describe()}" for m in motions)
-        raise ValueError(
-            "the problem is singular: these rigid motions meet no Dirichlet condition, "
-            f"no contact constraint and no stiffness (Eq. 33):\n{lines}\n"
-            "Add a Dirichlet condition (or a contact pair) that holds each of them."
-        )
+        raise unsupported_error(motions, support)
     return support
 
 

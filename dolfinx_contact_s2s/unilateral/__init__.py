@@ -45,6 +45,7 @@ from dolfinx_contact_s2s.unilateral.history import (
     ContactHistory,
     Iteration,
     LoadStep,
+    Update,
 )
 from dolfinx_contact_s2s.unilateral.problem import (
     ALGORITHMS,
@@ -62,4 +63,5 @@ __all__ = [
     "Iteration",
     "LoadStep",
     "UnilateralContactProblem",
+    "Update",
 ]

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["ContactConvergenceError", "ContactHistory", "Iteration", "LoadStep"]
+__all__ = ["ContactConvergenceError", "ContactHistory", "Iteration", "LoadStep", "Update"]
 
 
 @dataclass(frozen=True)
@@ -44,12 +44,32 @@ class Iteration:
     outer: int = 0
 
 
+@dataclass(frozen=True)
+class Update:
+    r"""One Uzawa update :math:`\lambda \leftarrow \max(0, \lambda - c \tilde g)`.
+
+    Attributes:
+        outer: Its number (the :attr:`Iteration.outer` of its solves).
+        change: Relative change of :math:`\lambda` at the update.
+        rate: Contraction rate, the change over the previous update's (below 1 when the
+            iteration converges); ``None`` for the first update.
+        penalty_factor: The factor the penalty had been raised by
+            (:mod:`~dolfinx_contact_s2s.unilateral.uzawa`) when its solves ran.
+    """
+
+    outer: int
+    change: float
+    rate: float | None
+    penalty_factor: float
+
+
 @dataclass
 class LoadStep:
     """The iterations of one load factor."""
 
     load: float
     iterations: list[Iteration] = field(default_factory=list)
+    updates: list[Update] = field(default_factory=list)
     converged: bool = False
     seconds: float = 0.0
 
@@ -78,6 +98,10 @@ class ContactHistory:
                     f"    {k}{outer}: active {list(it.active)}, +{it.entered} -{it.left}, "
                     f"residual {it.residual:.2e}"
                 )
+            for u in step.updates:
+                rate = "" if u.rate is None else f", rate {u.rate:.3g}"
+                rate += f", penalty x{u.penalty_factor:g}" if u.penalty_factor != 1.0 else ""
+                lines.append(f"    update {u.outer}: change {u.change:.2e}{rate}")
         return "\n".join(lines)
 
 

@@ -24,6 +24,7 @@ import numpy.typing as npt
 from dolfinx_contact_s2s.options import solver_failure
 from dolfinx_contact_s2s.unilateral.history import LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
+from dolfinx_contact_s2s.unilateral.uzawa import UzawaMonitor
 
 __all__ = ["solve_step"]
 
@@ -133,6 +134,7 @@ def solve_step(
     flat = np.concatenate(active)
     split = np.cumsum(sizes)[:-1]
     last = lam.array_r.copy()
+    uzawa = UzawaMonitor(run.tolerance)
     try:
         for outer in range(1, run.max_iterations + 1 if augmented else 2):
             for _ in range(run.max_iterations):
@@ -180,7 +182,8 @@ def solve_step(
                 )
             change = _relative_change(comm, lam_new, lam.array_r)
             lam.array[:] = lam_new
-            if not augmented or change <= run.tolerance:
+            # The monitor records the update's rate, raises c if it is poor, decides the stop.
+            if not augmented or uzawa.update(step, change, c):
                 step.converged = True
                 break
         else:
