@@ -46,15 +46,75 @@ _Problem = typing.TypeVar("_Problem", bound="ContactProblemBase")
 class ContactProblemBase:
     """The public face of a problem that holds a :class:`~dolfinx_contact_s2s.system.ContactSystem`.
 
-    Every attribute here reads the system (:attr:`system`); the problems built on it
+    The constructor takes the arguments of every contact problem and builds the system
+    (with the defaults of :meth:`solver_defaults`); every attribute here reads it
+    (:attr:`system`). The problems built on it
     (:class:`LinearContactProblem`,
     :class:`~dolfinx_contact_s2s.unilateral.UnilateralContactProblem`) add their own
     ``solve``. Usable as a context manager; otherwise call :meth:`destroy`.
     """
 
-    def __init__(self, system: ContactSystem):
-        """Hold ``system``; it is destroyed with the problem."""
-        self._system = system
+    def __init__(
+        self,
+        a: ufl.Form | Sequence[ufl.Form],
+        L: ufl.Form | Sequence[ufl.Form],
+        pairs: Sequence[ContactPair],
+        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
+        *,
+        petsc_options_prefix: str,
+        petsc_options: dict[str, typing.Any] | None = None,
+        kind: str = "aij",
+        residual_tolerance: float = 1e-8,
+        workspace_retries: int = 3,
+        form_compiler_options: dict | None = None,
+        jit_options: dict | None = None,
+    ):
+        """Set up the forms, the solution functions and the solver.
+
+        Args:
+            a: Bilinear form of each displacement space (a single form for one space).
+            L: Linear form of each displacement space, in the same order.
+            pairs: Contact pairs between surfaces of these spaces.
+            bcs: Dirichlet conditions on any of the spaces.
+            petsc_options_prefix: Non-empty prefix of the solver's options.
+            petsc_options: Options set under the prefix, e.g. ``{"ksp_type": "gmres"}``;
+                they reach every object that reads them, the factorization included.
+                Defaults: :data:`DEFAULT_OPTIONS` (MUMPS :math:`LDL^T` for a symmetric
+                system, LU otherwise), each yielding to these and to the options
+                database (command line, ``PETSC_OPTIONS``).
+            kind: ``"aij"`` (one assembled matrix, for direct solvers) or ``"nest"``
+                (the ``MatNest`` of the blocks, for field-split solvers).
+            residual_tolerance: Largest relative residual of a trusted solve.
+            workspace_retries: Times a MUMPS workspace error is met by doubling
+                ICNTL(14) before raising.
+            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
+            jit_options: Passed to :func:`dolfinx.fem.form`.
+
+        Raises:
+            ValueError: On every rank, for inconsistent input or a mesh with NaN or
+                infinite coordinates.
+            TypeError: If ``a``, ``L``, ``pairs`` or ``bcs`` is not what it should be
+                (e.g. ``pairs`` and ``bcs`` swapped).
+        """
+        check_problem_arguments(a, L, pairs, bcs, type(self).__name__)
+        self._system = ContactSystem(
+            a,
+            L,
+            pairs,
+            bcs,
+            petsc_options_prefix=petsc_options_prefix,
+            petsc_options=petsc_options,
+            kind=kind,
+            residual_tolerance=residual_tolerance,
+            workspace_retries=workspace_retries,
+            default_options=self.solver_defaults(),
+            form_compiler_options=form_compiler_options,
+            jit_options=jit_options,
+        )
+
+    def solver_defaults(self) -> dict[str, typing.Any]:
+        """The solver's defaults, below ``petsc_options`` and the options database."""
+        return dict(DEFAULT_OPTIONS)
 
     @property
     def system(self) -> ContactSystem:
@@ -319,65 +379,6 @@ class LinearContactProblem(ContactProblemBase):
 
     Usable as a context manager; otherwise call :meth:`destroy`.
     """
-
-    def __init__(
-        self,
-        a: ufl.Form | Sequence[ufl.Form],
-        L: ufl.Form | Sequence[ufl.Form],
-        pairs: Sequence[ContactPair],
-        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
-        *,
-        petsc_options_prefix: str,
-        petsc_options: dict[str, typing.Any] | None = None,
-        kind: str = "aij",
-        residual_tolerance: float = 1e-8,
-        workspace_retries: int = 3,
-        form_compiler_options: dict | None = None,
-        jit_options: dict | None = None,
-    ):
-        """Set up the forms, the solution functions and the solver.
-
-        Args:
-            a: Bilinear form of each displacement space (a single form for one space).
-            L: Linear form of each displacement space, in the same order.
-            pairs: Contact pairs between surfaces of these spaces.
-            bcs: Dirichlet conditions on any of the spaces.
-            petsc_options_prefix: Non-empty prefix of the solver's options.
-            petsc_options: Options set under the prefix, e.g. ``{"ksp_type": "gmres"}``;
-                they reach every object that reads them, the factorization included.
-                Defaults: :data:`DEFAULT_OPTIONS` (MUMPS :math:`LDL^T` for a symmetric
-                system, LU otherwise), each yielding to these and to the options
-                database (command line, ``PETSC_OPTIONS``).
-            kind: ``"aij"`` (one assembled matrix, for direct solvers) or ``"nest"``
-                (the ``MatNest`` of the blocks, for field-split solvers).
-            residual_tolerance: Largest relative residual of a trusted solve.
-            workspace_retries: Times a MUMPS workspace error is met by doubling
-                ICNTL(14) before raising.
-            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
-            jit_options: Passed to :func:`dolfinx.fem.form`.
-
-        Raises:
-            ValueError: On every rank, for inconsistent input or a mesh with NaN or
-                infinite coordinates.
-            TypeError: If ``a``, ``L``, ``pairs`` or ``bcs`` is not what it should be
-                (e.g. ``pairs`` and ``bcs`` swapped).
-        """
-        check_problem_arguments(a, L, pairs, bcs, type(self).__name__)
-        super().__init__(
-            ContactSystem(
-                a,
-                L,
-                pairs,
-                bcs,
-                petsc_options_prefix=petsc_options_prefix,
-                petsc_options=petsc_options,
-                kind=kind,
-                residual_tolerance=residual_tolerance,
-                workspace_retries=workspace_retries,
-                form_compiler_options=form_compiler_options,
-                jit_options=jit_options,
-            )
-        )
 
     def assemble(self, check: bool = True) -> None:
         r"""Assemble :math:`\mathbf K`, :math:`\mathbf F`, the coupling and the saddle point.

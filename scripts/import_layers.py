@@ -3,16 +3,17 @@
 # SPDX-License-Identifier: MIT
 """Print the import graph of the library as layers, its circles, and its module sizes.
 
-    python3 scripts/import_layers.py [--check] [--max-lines 600] [--max-total 10000]
+    python3 scripts/import_layers.py [--check] [--max-lines 600] [--max-total 11500]
 
 Reads the source with :mod:`ast` (nothing is imported, so no DOLFINx is needed). Every
 import of a library module counts: at module level, inside functions, and under
 ``typing.TYPE_CHECKING``. A module's layer is 0 if it imports no library module, else
 one more than the highest layer it imports, so in a graph without circles every import
 runs from a higher layer to a lower one. A module's import of the packages it sits in
-is not counted (Python runs them first in any case). With ``--check`` the exit status is 1 if there
-is a circle, a module longer than ``--max-lines`` or a library longer than
-``--max-total`` lines.
+is not counted (Python runs them first in any case). With ``--check`` the exit status is
+1 if there is a circle, an import from a layer up or sideways, a module longer than
+``--max-lines`` or a library longer than ``--max-total`` lines. The total is also given
+in lines of code (neither blank, nor comment, nor docstring).
 """
 
 from __future__ import annotations
@@ -59,6 +60,24 @@ def imports(path: pathlib.Path, name: str, modules: set[str]) -> set[str]:
             if target and not (name == target or name.startswith(target + ".")):
                 found.add(target)
     return found
+
+
+def code_lines(path: pathlib.Path) -> int:
+    """Lines that are neither blank, nor a comment, nor part of a docstring."""
+    source = path.read_text()
+    docstrings: set[int] = set()
+    for node in ast.walk(ast.parse(source)):
+        body = getattr(node, "body", None)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef):
+            first = body[0] if body else None
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                if isinstance(first.value.value, str):
+                    docstrings.update(range(first.lineno, (first.end_lineno or 0) + 1))
+    return sum(
+        1
+        for number, line in enumerate(source.splitlines(), 1)
+        if line.strip() and not line.strip().startswith("#") and number not in docstrings
+    )
 
 
 def strongly_connected(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -128,7 +147,7 @@ def main() -> int:
         "--check", action="store_true", help="exit 1 on a circle or a size over the limits"
     )
     parser.add_argument("--max-lines", type=int, default=600, help="longest module allowed")
-    parser.add_argument("--max-total", type=int, default=10000, help="longest library allowed")
+    parser.add_argument("--max-total", type=int, default=11500, help="longest library allowed")
     args = parser.parse_args()
     root = args.root
     files = sorted((root / PACKAGE).rglob("*.py"))
@@ -140,8 +159,9 @@ def main() -> int:
     lines = {name: len(path.read_text().splitlines()) for name, path in names.items()}
 
     short = {name: name.removeprefix(PACKAGE + ".") for name in names}
+    code = sum(code_lines(path) for path in names.values())
     print(
-        f"{PACKAGE}: {len(names)} modules, {sum(lines.values())} lines, "
+        f"{PACKAGE}: {len(names)} modules, {sum(lines.values())} lines ({code} of code), "
         f"{max(layer.values()) + 1} layers"
     )
     for level in range(max(layer.values()), -1, -1):

@@ -24,10 +24,9 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
-from dolfinx_contact_s2s.checks.inputs import check_problem_arguments
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
-from dolfinx_contact_s2s.system import DEFAULT_OPTIONS, ContactSystem
+from dolfinx_contact_s2s.system import DEFAULT_OPTIONS
 from dolfinx_contact_s2s.unilateral import active_set, penalty, snes_vi
 from dolfinx_contact_s2s.unilateral.complementarity import Complementarity
 from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
@@ -83,30 +82,21 @@ class UnilateralContactProblem(ContactProblemBase):
         pairs: Sequence[ContactPair],
         bcs: Sequence[dolfinx.fem.DirichletBC] = (),
         *,
-        petsc_options_prefix: str,
-        petsc_options: dict[str, typing.Any] | None = None,
         algorithm: str = "active-set",
         start: str = "nearest",
         penalty: float | None = None,
         max_iterations: int = 50,
         tolerance: float = 1e-10,
-        kind: str = "aij",
-        residual_tolerance: float = 1e-8,
-        workspace_retries: int = 3,
         monitor: Callable[[Iteration], None] | None = None,
-        form_compiler_options: dict | None = None,
-        jit_options: dict | None = None,
+        **options: typing.Any,
     ):
-        r"""Set up the problem; the arguments of ``LinearContactProblem`` and these.
+        r"""Set up the problem: the arguments of ``LinearContactProblem`` and these.
 
         Args:
             a: Bilinear form of each displacement space.
             L: Linear form of each displacement space.
             pairs: Contact pairs.
             bcs: Dirichlet conditions.
-            petsc_options_prefix: Non-empty prefix of the solver's options (the KSP of
-                every linear solve; with ``"snes-vi"`` also the SNES).
-            petsc_options: Options under the prefix.
             algorithm: One of :data:`ALGORITHMS`.
             start: First active set, one of :data:`STARTS`.
             penalty: Factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`;
@@ -115,30 +105,30 @@ class UnilateralContactProblem(ContactProblemBase):
                 updates, for the augmented Lagrangian).
             tolerance: Largest relative complementarity residual of a converged solve;
                 for the augmented Lagrangian, also the largest relative change of
-                :math:`\lambda` at the last update.
-            kind: ``"aij"`` or ``"nest"`` (not with ``"snes-vi"``, which extracts
-                reduced matrices).
-            residual_tolerance: Largest relative residual of every linear solve.
-            workspace_retries: Times a MUMPS workspace error is met by doubling
-                ICNTL(14) before raising.
+                :math:`\lambda` at the last update (and of its estimated error,
+                :mod:`~dolfinx_contact_s2s.unilateral.uzawa`).
             monitor: Called as ``monitor(iteration)`` with every
                 :class:`~dolfinx_contact_s2s.unilateral.history.Iteration` once it is
                 recorded in :attr:`history` (after its linear solve and the active-set
                 update), e.g. to log or time the iterations; collective calls inside it
                 must be made on every process.
-            form_compiler_options: Passed to :func:`dolfinx.fem.form`.
-            jit_options: Passed to :func:`dolfinx.fem.form`.
+            options: The keyword arguments of
+                :class:`~dolfinx_contact_s2s.problem.LinearContactProblem`:
+                ``petsc_options_prefix`` (required; the KSP of every linear solve, with
+                ``"snes-vi"`` also the SNES), ``petsc_options``, ``kind`` (``"aij"`` or
+                ``"nest"``; not with ``"snes-vi"``, which extracts reduced matrices),
+                ``residual_tolerance`` (of every linear solve), ``workspace_retries``,
+                ``form_compiler_options``, ``jit_options``.
 
         Raises:
             ValueError: For an unknown algorithm or start, or a bad parameter.
             TypeError: If ``a``, ``L``, ``pairs`` or ``bcs`` is not what it should be.
         """
-        check_problem_arguments(a, L, pairs, bcs, type(self).__name__)
         if algorithm not in ALGORITHMS:
             raise ValueError(f"algorithm must be one of {ALGORITHMS}, not {algorithm!r}")
         if start not in STARTS:
             raise ValueError(f"start must be one of {STARTS}, not {start!r}")
-        if algorithm == "snes-vi" and kind != "aij":
+        if algorithm == "snes-vi" and options.get("kind", "aij") != "aij":
             raise ValueError("the 'snes-vi' algorithm needs kind='aij'")
         if penalty is None:
             penalty = DEFAULT_PENALTY[algorithm]
@@ -152,29 +142,18 @@ class UnilateralContactProblem(ContactProblemBase):
         self.max_iterations = int(max_iterations)
         self.tolerance = float(tolerance)
         self._monitor = monitor
-        defaults = dict(DEFAULT_OPTIONS)
-        if algorithm == "snes-vi":
-            defaults |= snes_vi.snes_options(self.max_iterations)
-        super().__init__(
-            ContactSystem(
-                a,
-                L,
-                pairs,
-                bcs,
-                petsc_options_prefix=petsc_options_prefix,
-                petsc_options=petsc_options,
-                kind=kind,
-                residual_tolerance=residual_tolerance,
-                workspace_retries=workspace_retries,
-                default_options=defaults,
-                form_compiler_options=form_compiler_options,
-                jit_options=jit_options,
-            )
-        )
+        super().__init__(a, L, pairs, bcs, **options)
         self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
         self.gaps = [dolfinx.fem.Function(p.Q, name=f"gap{j}") for j, p in enumerate(pairs)]
         self.history = ContactHistory(algorithm)
         self._complementarity: Complementarity | None = None
+
+    def solver_defaults(self) -> dict[str, typing.Any]:
+        """The defaults of every linear solve; with ``"snes-vi"`` also the SNES's."""
+        defaults = dict(DEFAULT_OPTIONS)
+        if self.algorithm == "snes-vi":
+            defaults |= snes_vi.snes_options(self.max_iterations)
+        return defaults
 
     @property
     def scales(self) -> list[PETSc.Vec]:
