@@ -6,9 +6,9 @@ Every case starts from the README's model (one Gmsh model, both blocks in one me
 one space, the user's own forms) with one thing wrong. On two ranks the bad entity often
 sits on one partition only; every rank must raise the same exception with the same
 message, never hang, abort in PETSc or return a plausible wrong answer. Cases that
-:mod:`tests.test_errors` and :mod:`tests.test_solve_checks` already cover (missing, empty
-and interior tags, cell tags, a scalar space, a floating lower block, redundant
-node-to-segment-gauss and two-pass constraints) are not repeated.
+:mod:`tests.test_surface_and_pair_input` and :mod:`tests.test_system_checks` already
+cover (missing, empty and interior tags, cell tags, a scalar space, a floating lower
+block, redundant node-to-segment-gauss and two-pass constraints) are not repeated.
 """
 
 import functools

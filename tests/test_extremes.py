@@ -16,10 +16,10 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import pytest
-import test_solve_checks
+import test_system_checks
 import ufl
 from readme_model import readme_mesh
-from test_solve_checks import max_pressure_error, readme_problem
+from test_system_checks import max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
 from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
@@ -131,7 +131,7 @@ def test_contrast_1e6_trusted_by_its_backward_error(monkeypatch, degree):
     The backward error is checked against a dense NumPy evaluation of the same formula.
     """
     materials = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=1e6, nu=0.2)}
-    monkeypatch.setattr(test_solve_checks, "MATERIALS", materials)
+    monkeypatch.setattr(test_system_checks, "MATERIALS", materials)
     # A tolerance no solve of this system meets: only the backward error can trust it.
     with readme_problem(degree=degree, prefix="contrast6_", residual_tolerance=1e-14) as problem:
         problem.solve()

@@ -11,7 +11,7 @@ from mpi4py import MPI
 
 import numpy as np
 import pytest
-from test_solve_checks import readme_problem
+from test_system_checks import readme_problem
 
 from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.la import gather_dense

@@ -9,8 +9,8 @@ On DOLFINx 0.11 with 2 ranks, MUMPS reported a zero stiffness as a workspace err
 import functools
 
 import pytest
-from h2_scenes import quad_tri_patch
 from test_bad_input import raises_everywhere, readme_mesh, readme_problem
+from user_scenes import quad_tri_patch
 
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem

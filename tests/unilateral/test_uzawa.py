@@ -13,7 +13,7 @@ from mpi4py import MPI
 
 import numpy as np
 import pytest
-from h2_scenes import quad_tri_patch
+from user_scenes import quad_tri_patch
 
 from dolfinx_contact_s2s.unilateral import DEFAULT_PENALTY, UnilateralContactProblem
 

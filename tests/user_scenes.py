@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Scenes of the defects users met (shared by the h2 tests)."""
+"""Scenes of the defects users met, built as a user builds them (shared by several tests)."""
 
 from mpi4py import MPI
 

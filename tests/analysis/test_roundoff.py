@@ -10,8 +10,8 @@ from mpi4py import MPI
 
 import numpy as np
 import pytest
-import test_solve_checks
-from test_solve_checks import max_pressure_error, readme_problem
+import test_system_checks
+from test_system_checks import max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import Material
 from dolfinx_contact_s2s.analysis.roundoff import _equilibration, round_off_bound
@@ -42,7 +42,7 @@ def test_condition_estimate_agrees_with_dense(degree):
 @pytest.mark.parametrize("contrast", [1e-4, 1.0, 1e4])
 def test_patch_test_within_the_bound(monkeypatch, contrast):
     materials = {"lower": Material(E=1.0, nu=0.3), "upper": Material(E=contrast, nu=0.2)}
-    monkeypatch.setattr(test_solve_checks, "MATERIALS", materials)
+    monkeypatch.setattr(test_system_checks, "MATERIALS", materials)
     with readme_problem(degree=2, prefix="roundoff_contrast_") as problem:
         problem.solve()
         bound = round_off_bound(problem)

@@ -17,7 +17,7 @@ import dolfinx.fem.petsc
 import numpy as np
 import pytest
 import ufl
-from test_solve_checks import MATERIALS, max_pressure_error, readme_problem
+from test_system_checks import MATERIALS, max_pressure_error, readme_problem
 
 from dolfinx_contact_s2s import contact_pairs, contact_surface
 from dolfinx_contact_s2s.la import gather_dense, is_symmetric

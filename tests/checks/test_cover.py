@@ -19,7 +19,7 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import pytest
-from test_arrangements import THREE_BLOCK_MATERIALS, Model, patch_errors
+from test_pair_arrangements import THREE_BLOCK_MATERIALS, Model, patch_errors
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.checks import unconstrained_parts
