@@ -26,7 +26,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s._compat import geometry_dofmap, submesh_parent_entities
+from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities
 from dolfinx_contact_s2s.quadrature import interval_rule
 from dolfinx_contact_s2s.search import find_targets, node_offsets
 from dolfinx_contact_s2s.segmentation import Pieces, Segmentation, SubSegments

@@ -18,7 +18,7 @@ from mpi4py import MPI
 
 import dolfinx
 
-from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
+from dolfinx_contact_s2s.compat import gmsh_model_to_mesh
 
 __all__ = ["gmsh_session", "model_to_mesh"]
 

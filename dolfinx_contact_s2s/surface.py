@@ -27,7 +27,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
+from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
 from dolfinx_contact_s2s.kernels import get_backend
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "facet_monomials", "tabulate"]

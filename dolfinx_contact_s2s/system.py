@@ -33,9 +33,9 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s import checks, system_checks
-from dolfinx_contact_s2s._compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
 from dolfinx_contact_s2s.checks.inputs import check_solver_types, check_stiffness
+from dolfinx_contact_s2s.compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
     PETScOptions,

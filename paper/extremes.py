@@ -45,8 +45,8 @@ import dolfinx.fem
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s._compat import geometry_dofmap
 from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
+from dolfinx_contact_s2s.compat import geometry_dofmap
 from dolfinx_contact_s2s.meshing import model_to_mesh
 from dolfinx_contact_s2s.pair import contact_pairs
 from dolfinx_contact_s2s.problem import LinearContactProblem

@@ -41,7 +41,7 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 
-from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
+from dolfinx_contact_s2s.compat import gmsh_model_to_mesh
 from dolfinx_contact_s2s.meshing import gmsh_session
 
 __all__ = [

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s._compat import DOLFINX_VERSION
+from dolfinx_contact_s2s.compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.convergence import (
     SECONDS,
     ConvergenceTable,

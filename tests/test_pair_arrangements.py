@@ -20,7 +20,7 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface, stress_function
-from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
+from dolfinx_contact_s2s.compat import gmsh_model_to_mesh
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from paper.scenes_multi import (
     BlocksScene,

@@ -17,8 +17,8 @@ import scipy.linalg
 import scipy.sparse
 import scipy.sparse.csgraph
 
-from dolfinx_contact_s2s._compat import geometry_dofmap
 from dolfinx_contact_s2s.checks.linalg import petsc_vector
+from dolfinx_contact_s2s.compat import geometry_dofmap
 
 __all__ = ["Bodies", "body_set", "connected_components", "near_nullspace", "rigid_body_modes"]
 

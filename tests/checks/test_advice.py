@@ -22,7 +22,7 @@ import pytest
 from readme_model import LOWER, UPPER
 from test_bad_input import raises_everywhere, readme_mesh, readme_problem
 
-from dolfinx_contact_s2s._compat import geometry_dofmap
+from dolfinx_contact_s2s.compat import geometry_dofmap
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 

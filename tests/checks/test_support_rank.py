@@ -19,7 +19,6 @@ import pytest
 import scipy.linalg
 import ufl
 
-from dolfinx_contact_s2s._compat import gmsh_model_to_mesh
 from dolfinx_contact_s2s.checks import (
     REDUNDANT_TOL,
     Redundancy,
@@ -32,6 +31,7 @@ from dolfinx_contact_s2s.checks import (
     rigid_body_modes,
     unsupported_motions,
 )
+from dolfinx_contact_s2s.compat import gmsh_model_to_mesh
 
 comm = MPI.COMM_WORLD
 eps = np.finfo(np.float64).eps

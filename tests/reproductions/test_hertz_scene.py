@@ -22,7 +22,7 @@ import ufl
 from scipy.integrate import quad
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
-from dolfinx_contact_s2s._compat import blocked_sub_element, geometry_dofmap
+from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
 from paper.hertz.exact import Hertz, measure
 from paper.hertz.scene import GRADING, TAGS, hertz
 

@@ -22,7 +22,7 @@ import pytest
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
-from dolfinx_contact_s2s._compat import geometry_dofmap
+from dolfinx_contact_s2s.compat import geometry_dofmap
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import (
     ALGORITHMS,

@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Differences between DOLFINx 0.9, 0.10 and 0.11, in one place."""
+"""Differences between DOLFINx 0.9, 0.10 and 0.11, in one place (public: scenes use them too)."""
 
 from __future__ import annotations
 
