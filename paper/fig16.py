@@ -400,11 +400,7 @@ def fig16_problem(
     petsc_options_prefix: str = "fig16_",
     petsc_options: dict | None = None,
 ) -> LinearContactProblem:
-    """The tied problem of ``case`` and ``variant`` at level ``n``, not yet solved.
-
-    ``problem.scene`` is the scene and, for ``"smooth"``, ``problem.exact`` the
-    :class:`SmoothSolution`.
-    """
+    """The tied problem of ``case`` and ``variant`` at level ``n``, not yet solved."""
     from dolfinx_contact_s2s.problem import LinearContactProblem
 
     model = fig16_model(comm, case.degree, case.cell, variant, n, delta=delta)
@@ -417,9 +413,6 @@ def fig16_problem(
         petsc_options_prefix=petsc_options_prefix,
         petsc_options=petsc_options,
     )
-    problem.scene = model.scene  # type: ignore[attr-defined]
-    problem.exact = model.exact  # type: ignore[attr-defined]
-    problem.level = n  # type: ignore[attr-defined]
     return problem
 
 
