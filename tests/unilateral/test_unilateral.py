@@ -207,12 +207,8 @@ def test_no_convergence_raises_with_history():
     assert "active [" in str(info.value)
 
 
-def test_load_steps_start_from_previous_active_set():
-    """Load steps: the same answer as one step; a repeated step needs a single solve.
-
-    The lower block's weight points down at the load factor -1 (it sags away from the
-    clamped upper block: no contact) and up at +1 (it presses on the upper block).
-    """
+def _weighted_lower_block():
+    """The lower block under its own weight (load factor 1: up, onto the clamped upper)."""
     part, V = _blocks(degree=1)
     a, _, v = MATERIAL.forms(V)
     dx = ufl.Measure("dx", domain=part.mesh, subdomain_data=part.cell_tags)
@@ -220,6 +216,16 @@ def test_load_steps_start_from_previous_active_set():
     tags = part.facet_tags
     bcs = [_bc(V, 0, tags.find(4)), _bc(V, 1, tags.find(1))]
     bcs += [_bc(V, 0, tags.find(23)), _bc(V, 1, tags.find(23))]
+    return V, tags, a, L, bcs
+
+
+def test_load_steps_start_from_previous_active_set():
+    """Load steps: the same answer as one step; a repeated step needs a single solve.
+
+    The lower block's weight points down at the load factor -1 (it sags away from the
+    clamped upper block: no contact) and up at +1 (it presses on the upper block).
+    """
+    V, tags, a, L, bcs = _weighted_lower_block()
     results = []
     for loads in ([1.0], [-1.0, 0.5, 1.0, 1.0]):
         pair = contact_pair(contact_surface(V, tags, 20), contact_surface(V, tags, 10))
@@ -240,13 +246,7 @@ def test_load_steps_start_from_previous_active_set():
 @pytest.mark.parametrize("algorithm", ALGORITHMS)
 def test_monitor_sees_every_recorded_iteration(algorithm):
     """``monitor=`` receives each Iteration as it enters the history, in order."""
-    part, V = _blocks(degree=1)
-    a, _, v = MATERIAL.forms(V)
-    dx = ufl.Measure("dx", domain=part.mesh, subdomain_data=part.cell_tags)
-    L = 0.3 * v[1] * dx(1)
-    tags = part.facet_tags
-    bcs = [_bc(V, 0, tags.find(4)), _bc(V, 1, tags.find(1))]
-    bcs += [_bc(V, 0, tags.find(23)), _bc(V, 1, tags.find(23))]
+    V, tags, a, L, bcs = _weighted_lower_block()
     pair = contact_pair(contact_surface(V, tags, 20), contact_surface(V, tags, 10))
     seen = []
 
