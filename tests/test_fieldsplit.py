@@ -78,6 +78,20 @@ def _max(a):
     return comm.allreduce(float(np.max(np.abs(a), initial=0.0)), op=MPI.MAX)
 
 
+def _problem(a, L, pairs, bcs, solver, prefix, spaces):
+    """The problem with the iterative solver (a nest, the Schur field split) or MUMPS LU."""
+    iterative = solver == "iterative"
+    return LinearContactProblem(
+        a,
+        L,
+        pairs,
+        bcs,
+        petsc_options_prefix=prefix,
+        petsc_options=iterative_options(spaces=spaces) if iterative else None,
+        kind="nest" if iterative else "aij",
+    )
+
+
 def test_agrees_with_lu_and_iterations_bounded(models):
     iterations = {}
     for n in LEVELS:
@@ -124,16 +138,7 @@ def test_one_space_two_bodies():
     )
     results = []
     for solver in ("iterative", "lu"):
-        options = iterative_options(spaces=1) if solver == "iterative" else None
-        with LinearContactProblem(
-            a,
-            L,
-            [pair],
-            bcs,
-            petsc_options_prefix=f"one_{solver}_",
-            petsc_options=options,
-            kind="nest" if solver == "iterative" else "aij",
-        ) as problem:
+        with _problem(a, L, [pair], bcs, solver, f"one_{solver}_", spaces=1) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)
             problem.solve()
@@ -208,16 +213,7 @@ def test_overhang_inactive_multipliers():
     )
     results = []
     for solver in ("iterative", "lu"):
-        options = iterative_options(spaces=2) if solver == "iterative" else None
-        with LinearContactProblem(
-            a,
-            L,
-            [pair],
-            bcs,
-            petsc_options_prefix=f"over_{solver}_",
-            petsc_options=options,
-            kind="nest" if solver == "iterative" else "aij",
-        ) as problem:
+        with _problem(a, L, [pair], bcs, solver, f"over_{solver}_", spaces=2) as problem:
             if solver == "iterative":
                 setup = use_schur_complement(problem)
             problem.solve()
