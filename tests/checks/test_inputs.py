@@ -137,75 +137,42 @@ def test_pairs_and_bcs_swapped(model, problem):
     assert "AttributeError" not in message
 
 
-@pytest.mark.parametrize("problem", PROBLEMS)
-def test_bcs_given_as_pairs(model, problem):
-    a, L, pairs, _ = _model_arguments(*model)
-    raises_everywhere(
-        TypeError,
+#: Arguments in the wrong place or of the wrong kind: ``(a, L, pairs, bcs)`` -> the
+#: positional arguments given, and the message.
+WRONG_ARGUMENTS = {
+    "bcs given as pairs": (
+        lambda a, L, pairs, bcs: (a, L, pairs, pairs),
         r"argument 4, bcs, must be a list of DirichletBC objects .*got list of ContactPair: "
         r"did you swap pairs and bcs\?",
-        PROBLEMS[problem],
-        a,
-        L,
-        pairs,
-        pairs,
-        petsc_options_prefix="swap4_",
-    )
-
-
-def test_linear_problem_order(model):
-    """``(a, L, bcs)`` as for LinearProblem, no pairs: the bcs land in pairs."""
-    a, L, _, bcs = _model_arguments(*model)
-    raises_everywhere(
-        TypeError,
+    ),
+    "LinearProblem's order": (
+        lambda a, L, pairs, bcs: (a, L, bcs),
         r"argument 3, pairs.*got list of DirichletBC: did you swap",
-        LinearContactProblem,
-        a,
-        L,
-        bcs,
-        petsc_options_prefix="lp_",
-    )
-
-
-def test_compiled_forms_and_single_objects(model):
-    a, L, pairs, bcs = _model_arguments(*model)
-    raises_everywhere(
-        TypeError,
+    ),
+    "compiled a": (
+        lambda a, L, pairs, bcs: (dolfinx.fem.form(a), L, pairs, bcs),
         r"argument 1, a, must be a UFL form .*got Form",
-        LinearContactProblem,
-        dolfinx.fem.form(a),
-        L,
-        pairs,
-        bcs,
-        petsc_options_prefix="compiled_",
-    )
-    raises_everywhere(
-        TypeError,
+    ),
+    "a condition as L": (
+        lambda a, L, pairs, bcs: (a, bcs[0], pairs, bcs),
         r"argument 2, L, must be a UFL form .*got DirichletBC",
-        LinearContactProblem,
-        a,
-        bcs[0],
-        pairs,
-        bcs,
-        petsc_options_prefix="l_bc_",
-    )
-    raises_everywhere(
-        TypeError,
+    ),
+    "one pair": (
+        lambda a, L, pairs, bcs: (a, L, pairs[0], bcs),
         r"got one ContactPair: give \[pair\]",
-        LinearContactProblem,
-        a,
-        L,
-        pairs[0],
-        bcs,
-        petsc_options_prefix="one_pair_",
-    )
-    raises_everywhere(
-        TypeError,
+    ),
+    "one condition": (
+        lambda a, L, pairs, bcs: (a, L, pairs, bcs[0]),
         r"got one DirichletBC: give \[bc\]",
-        LinearContactProblem,
-        a,
-        L,
-        pairs,
-        bcs[0],
-        petsc_options_prefix="one_bc_",
-    )
+    ),
+}
+
+
+@pytest.mark.parametrize("problem", PROBLEMS)
+@pytest.mark.parametrize("case", WRONG_ARGUMENTS)
+def test_wrong_arguments(model, problem, case):
+    """Each wrong argument named by its position, for both problems, on every rank."""
+    arrange, match = WRONG_ARGUMENTS[case]
+    arguments = arrange(*_model_arguments(*model))
+    prefix = "wrong_" + "".join(c for c in case if c.isalnum()) + "_"
+    raises_everywhere(TypeError, match, PROBLEMS[problem], *arguments, petsc_options_prefix=prefix)
