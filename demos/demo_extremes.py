@@ -40,12 +40,12 @@
 # `--smoke` runs a few points.
 
 # +
-import json
 import time
 
 from mpi4py import MPI
 
 from paper.extremes import grid, record_lines, run_point
+from paper.records import merge_rank_records
 from paper.report import (
     demo_parser,
     output_folder,
@@ -92,11 +92,7 @@ log(f"{len(records) - len(failed)} of {len(records)} points pass on {comm.size} 
 
 # +
 if comm.rank == 0:
-    path = out / "extremes.json"
-    old = json.loads(path.read_text()) if path.exists() else []
-    merged = [r for r in old if r.get("ranks") != comm.size] + records
-    merged.sort(key=lambda r: r["ranks"])
-    path.write_text(json.dumps(merged, indent=1))
+    merged = merge_rank_records(out / "extremes.json", records, comm.size)
 
     import matplotlib
 

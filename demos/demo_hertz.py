@@ -28,7 +28,6 @@
 # coarse cases into another folder.
 
 # +
-import json
 
 from mpi4py import MPI
 
@@ -41,8 +40,8 @@ from paper.hertz.study import (
     hertz_convergence,
     run_case,
 )
+from paper.records import merge_rank_records, update_results
 from paper.records import records as records_of
-from paper.records import update_results
 from paper.report import (
     demo_parser,
     output_folder,
@@ -249,10 +248,7 @@ if comm.rank == 0:
         fig.savefig(out / "hertz_penalty.png", dpi=120)
 
     # hertz.json keeps the records of the other rank counts.
-    path = out / "hertz.json"
-    old = json.loads(path.read_text()) if path.exists() else []
-    kept = [r for r in old if r.get("ranks") != comm.size]
-    path.write_text(json.dumps(kept + records, indent=1, allow_nan=True) + "\n")
+    merge_rank_records(out / "hertz.json", records, comm.size)
 # -
 
 # ## Report

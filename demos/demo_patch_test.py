@@ -48,7 +48,6 @@
 # +
 import json
 import time
-from pathlib import Path
 
 from mpi4py import MPI
 
@@ -61,6 +60,7 @@ from paper.patch_test import (
     solve_patch_test,
     stress_component_errors,
 )
+from paper.records import merge_rank_records
 from paper.report import (
     demo_parser,
     output_folder,
@@ -209,15 +209,6 @@ for degree in (1, 2):
 SYMBOL = {"pass": "pass", "fail": "**fail**", "either": "either"}
 
 
-def merge(path: Path, new: list[dict]) -> list[dict]:
-    """Records of other rank counts in ``path`` plus the new ones."""
-    old = json.loads(path.read_text()) if path.exists() else []
-    merged = [r for r in old if r.get("ranks") != comm.size] + new
-    merged.sort(key=lambda r: r["ranks"])
-    path.write_text(json.dumps(merged, indent=1))
-    return merged
-
-
 def matrix_table(recs: list[dict]) -> list[str]:
     """The pass/fail matrix: one row per discretization and multiplier, per ratio."""
     ratios = sorted({tuple(r["elements"]) for r in recs}, key=lambda e: (e[0] != e[1], e))
@@ -279,8 +270,8 @@ if comm.rank == 0:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    merged = merge(out / "patch_test.json", records)
-    merged10 = merge(out / "fig10.json", fig10)
+    merged = merge_rank_records(out / "patch_test.json", records, comm.size)
+    merged10 = merge_rank_records(out / "fig10.json", fig10, comm.size)
     (out / "fig9.json").write_text(
         json.dumps(
             {k: {kk: vv.tolist() for kk, vv in v.items()} for k, v in fig9.items()}, indent=1

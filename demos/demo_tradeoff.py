@@ -39,6 +39,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
+from paper.records import merge_rank_records
 from paper.report import (
     demo_parser,
     output_folder,
@@ -56,7 +57,6 @@ from paper.tradeoff import (
     pareto,
     plot,
     run_study,
-    update_results,
 )
 
 parser = demo_parser("speed-accuracy trade of the contact methods", "a tiny version", out=None)
@@ -118,7 +118,7 @@ pareto(records)
 
 # +
 if comm.rank == 0:
-    everything = update_results(out / "tradeoff.json", records, comm.size)
+    everything = merge_rank_records(out / "tradeoff.json", records, comm.size)
     pareto(everything)
     mine = [r for r in everything if r["ranks"] == comm.size]
     scenes = ("patch", "hertz", "fig16")

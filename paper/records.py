@@ -16,12 +16,13 @@ import os
 import pathlib
 import typing
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 from mpi4py import MPI
 
 from dolfinx_contact_s2s.convergence import ConvergenceTable, json_ready, on_rank0
 
-__all__ = ["records", "update_results"]
+__all__ = ["merge_rank_records", "records", "update_results"]
 
 
 #: Keys of a record of ``results/convergence.json`` given by the caller, and defaults.
@@ -134,3 +135,24 @@ def update_results(
             os.fsync(f.fileno())
 
     on_rank0(comm, write)
+
+
+def merge_rank_records(
+    path: str | os.PathLike, records: Sequence[Mapping[str, typing.Any]], ranks: int
+) -> list[dict[str, typing.Any]]:
+    """Replace the records of ``ranks`` processes in the JSON list at ``path``; on one rank.
+
+    The records of the other rank counts are kept, so that runs on 1 and 2 ranks sit
+    side by side; the list is sorted by rank count (stably). Not collective: call it on
+    rank 0.
+
+    Returns:
+        The merged list, as written.
+    """
+    target = Path(path)
+    old = json.loads(target.read_text()) if target.exists() else []
+    merged = [r for r in old if r.get("ranks") != ranks] + [dict(r) for r in records]
+    merged.sort(key=lambda r: r.get("ranks", 0))
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_text(json.dumps(merged, indent=1) + "\n")
+    return merged

@@ -45,7 +45,6 @@ error. This module needs petsc4py and is imported explicitly.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 import typing
@@ -111,7 +110,6 @@ __all__ = [
     "patch_levels",
     "plot",
     "run_study",
-    "update_results",
 ]
 
 
@@ -534,15 +532,6 @@ def pareto(records: Sequence[dict], floor: float = 1e-14) -> None:
                 and (max(o["error"], floor) < e or o["seconds"]["total"] < t)
                 for o in group
             )
-
-
-def update_results(path: Path | str, records: Sequence[dict], ranks: int) -> list[dict]:
-    """Replace the records of ``ranks`` processes in the JSON list at ``path`` (rank 0)."""
-    path = Path(path)
-    old = json.loads(path.read_text()) if path.exists() else []
-    new = [r for r in old if r.get("ranks") != ranks] + list(records)
-    path.write_text(json.dumps(new, indent=1) + "\n")
-    return new
 
 
 def _family(method: str) -> str:
