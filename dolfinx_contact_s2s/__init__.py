@@ -18,7 +18,8 @@ import pathlib as _pathlib
 import re as _re
 
 from dolfinx_contact_s2s import _moved
-from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
+from dolfinx_contact_s2s.axisymmetry import check_axis_surface, check_axisymmetric_mesh
+from dolfinx_contact_s2s.elasticity import PLANES, Material, epsilon, stress_function
 from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
 from dolfinx_contact_s2s.pair import (
     METHODS,
@@ -48,11 +49,14 @@ _moved.install()
 
 __all__ = [
     "METHODS",
+    "PLANES",
     "ContactPair",
     "ContactSurface",
     "CouplingBlocks",
     "Material",
     "SubSegments",
+    "check_axis_surface",
+    "check_axisymmetric_mesh",
     "contact_pair",
     "contact_pairs",
     "contact_surface",

@@ -263,12 +263,15 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     a function on its mesh: :math:`\mathbf P` is its mass matrix. Node-based methods
     (Eqs. 37-39, ``pair.nodal``) collocate the traction at the nodes, each standing for
     its tributary length :math:`w^i`: :math:`\mathbf P` is the lumped mass matrix, or
-    its inverse when the multiplier is the nodal force (``weight="unit"``). The caller
+    its inverse when the multiplier is the nodal force (``weight="unit"``). In
+    axisymmetry (``pair.axisymmetric``) every integral carries :math:`2\pi r`,
+    :math:`r = x_0` of the multiplier's mesh: the norm over the 3D surface. The caller
     must ``destroy()`` it.
     """
     Q = pair.Q
     p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-    M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * ufl.dx))
+    w = 2 * np.pi * ufl.SpatialCoordinate(Q.mesh)[0] if pair.axisymmetric else 1.0
+    M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * w * ufl.dx))
     M.assemble()
     if not pair.nodal:
         return M

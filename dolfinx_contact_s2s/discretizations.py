@@ -26,6 +26,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.axisymmetry import ring_weights
 from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities
 from dolfinx_contact_s2s.quadrature import interval_rule
 from dolfinx_contact_s2s.search import find_targets, node_offsets
@@ -98,6 +99,7 @@ class PairLike(typing.Protocol):
     quadrature: str
     rule: tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]
     weight: str
+    axisymmetric: bool
     drop_coincident: bool
     multiplier_degree: int
     multiplier_continuous: bool
@@ -165,16 +167,23 @@ def _multiplicity(space: MultiplierSpace) -> npt.NDArray[np.floating]:
 
 
 def _facet_integrals(pair: PairLike) -> npt.NDArray[np.floating]:
-    r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet."""
+    r"""Integrals :math:`\int_f \mu_k` of the multiplier basis over each contactor facet.
+
+    In axisymmetry (``pair.axisymmetric``) :math:`\int_f \mu_k\, 2\pi r`: the
+    tributary area of the node's ring.
+    """
     cs, C, space = pair.contactor, pair.contactor.data, pair.multiplier
     n = len(C)
     s_ref, w_ref = interval_rule("gauss", pair.multiplier_degree + 3)
     rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
     xi = np.tile(s_ref, n)
-    _, _, dx = cs.evaluate(C, rows, xi)
+    _, x, dx = cs.evaluate(C, rows, xi)
     s_sub = np.where(space.flip[rows], 1.0 - xi, xi)
     mu = tabulate(space.element, 0, s_sub[:, None])[0]
-    w = (np.tile(w_ref, n) * np.linalg.norm(dx, axis=1))[:, None] * mu
+    length = np.tile(w_ref, n) * np.linalg.norm(dx, axis=1)
+    if pair.axisymmetric:
+        length = ring_weights(length, x[:, 0])
+    w = length[:, None] * mu
     return w.reshape(n, s_ref.size, mu.shape[1]).sum(axis=1)
 
 
@@ -321,10 +330,14 @@ class SegmentToSegment(Discretization):
 
 
 class NodeToSegment(Discretization):
-    """Node-to-segment (Eqs. 38-39): one constraint per contactor node.
+    r"""Node-to-segment (Eqs. 38-39): one constraint per contactor node.
 
     The weight is :math:`w^i = 1` (``"unit"``, the multiplier is a nodal force) or the
-    node's tributary length (``"tributary"``, a pressure). Each node meets the nearest
+    node's tributary length (``"tributary"``, a pressure). In axisymmetry the tributary
+    weight is :math:`\int 2\pi r N_i\, ds` and a unit weight makes the multiplier the
+    node's total ring force; with P2 the tributary weight of a vertex on the axis is 0
+    (:math:`\int_0^h 2\pi r N_0\, dr = 0`), a zero constraint that the rank check
+    (Eq. 35) refuses: use segment-to-segment there. Each node meets the nearest
     target along its normal. With ``drop_coincident`` (the second pass of section 4.3)
     nodes meeting a target node are left out: :meth:`duplicates`.
     """

@@ -41,6 +41,11 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
+from dolfinx_contact_s2s.axisymmetry import (
+    check_axis_surface,
+    check_axisymmetric_mesh,
+    ring_weights,
+)
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
 from dolfinx_contact_s2s.quadrature import RULES, interval_rule
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
@@ -124,6 +129,8 @@ class ContactPair:
         search_radius: Largest normal distance at which facets are paired.
         segmentation: The :class:`~dolfinx_contact_s2s.segmentation.Segmentation` of the
             contactor's facet dimension (Fig. 15(b)).
+        axisymmetric: Whether Eq. (17) carries the ring weight :math:`2\pi r` (see
+            :func:`contact_pair`).
     """
 
     def __init__(
@@ -138,6 +145,7 @@ class ContactPair:
         weight: str = "unit",
         search_radius: float | None = None,
         drop_coincident: bool = False,
+        axisymmetric: bool = False,
     ):
         r"""Define the pair and its multiplier space (collective).
 
@@ -162,10 +170,12 @@ class ContactPair:
             drop_coincident: For ``node-to-segment``: leave out the constraints of nodes
                 that meet a target node (the duplicates of the second pass of the
                 two-pass algorithm, section 4.3); see :func:`contact_pairs`.
+            axisymmetric: Weight Eq. (17) by :math:`2\pi r` (see :func:`contact_pair`).
 
         Raises:
-            ValueError: On every rank, for an unknown or inconsistent choice, or a
-                contactor that is its own target.
+            ValueError: On every rank, for an unknown or inconsistent choice, a
+                contactor that is its own target, or (``axisymmetric``) a mesh with
+                :math:`r < 0` or a surface crossing or lying on the axis.
             NotImplementedError: On every rank, for a contactor whose facet dimension has
                 no segmentation (:func:`~dolfinx_contact_s2s.segmentation.get_segmentation`).
         """
@@ -179,6 +189,13 @@ class ContactPair:
                 raise ValueError("the contactor surface must differ from its target surface")
             if contactor.V.mesh.comm.Compare(target.V.mesh.comm) == MPI.UNEQUAL:
                 raise ValueError("contactor and target must live on the same communicator")
+        self.axisymmetric = bool(axisymmetric)
+        if self.axisymmetric:
+            # The surfaces first: a surface crossing the axis is the more precise message.
+            for surface in (contactor, *targets):
+                check_axis_surface(surface)
+            for mesh in {id(s.V.mesh): s.V.mesh for s in (contactor, *targets)}.values():
+                check_axisymmetric_mesh(mesh)
         if method not in DISCRETIZATIONS:
             raise ValueError(f"unknown contact method {method!r}; choose from {METHODS}")
         if weight not in ("unit", "tributary"):
@@ -298,7 +315,10 @@ class ContactPair:
         r"""The integrals :math:`|\int \mu_k|` of the owned multiplier basis functions.
 
         Computed once (collective the first time): the multiplier space lives on a mesh
-        of its own, made with the pair, whose nodes nothing moves.
+        of its own, made with the pair, whose nodes nothing moves. Without the ring
+        weight also in axisymmetry: they measure the support of :math:`\mu_k` (is it
+        covered by a target?), and a P2 vertex function on the axis has
+        :math:`\int \mu_k\, 2\pi r\, ds = 0`.
         """
         if self._multiplier_integrals is None:
             Q = self.Q
@@ -385,13 +405,28 @@ class ContactPair:
             phi_c.reshape(S, nq, phi_c.shape[1]),
             phi_t.reshape(S, nq, phi_t.shape[1]),
             normals.reshape(S, nq, gdim),
-            g.weights,
+            self._point_weights(g, x_c + origin),
             gaps.reshape(S, nq),
         )
+        # Whether mu_k faces a target is a property of its support: the plain weights (a
+        # P2 vertex function on the axis has a zero r-weighted integral).
         coverage = np.einsum("sqk,sq->sk", mu, g.weights)
         return CouplingBlocks(
             ts, g.rows, C.dofs[g.contactor], b_c, T.dofs[g.target], b_t, gap, coverage
         )
+
+    def _point_weights(
+        self, g: PointGroups, x: npt.NDArray[np.floating]
+    ) -> npt.NDArray[np.floating]:
+        r"""The weights of Eq. (40) at contactor points ``x``: times :math:`2\pi r` in axisymmetry.
+
+        Node-based methods keep theirs: a tributary weight already is
+        :math:`\int 2\pi r N_i\, ds`, and a unit weight makes the multiplier the node's ring
+        force (:class:`~dolfinx_contact_s2s.discretizations.NodeToSegment`).
+        """
+        if not self.axisymmetric or self.nodal:
+            return g.weights
+        return ring_weights(g.weights, x[:, 0].reshape(g.weights.shape))
 
 
 def contact_pairs(
@@ -416,8 +451,8 @@ def contact_pairs(
             target against the contactor without the constraints of nodes that coincide
             with nodes of the first (within :math:`10^{-8}` of the element size).
         **options: Keyword arguments of :func:`contact_pair`: ``multiplier``,
-            ``quadrature``, ``quadrature_points``, ``weight`` and ``search_radius``,
-            given to every pair.
+            ``quadrature``, ``quadrature_points``, ``weight``, ``search_radius`` and
+            ``axisymmetric``, given to every pair.
 
     Returns:
         The list of :class:`ContactPair`.
@@ -445,6 +480,7 @@ def contact_pair(
     quadrature_points: int | None = None,
     weight: str = "unit",
     search_radius: float | None = None,
+    axisymmetric: bool = False,
 ) -> ContactPair:
     r"""A contactor surface, its target surface(s) and a contact discretization (collective).
 
@@ -496,6 +532,16 @@ def contact_pair(
             Default ``None``: the largest facet length (chord) of the contactor and all
             targets, over all processes. Pass a larger value for surfaces that start
             farther apart, a smaller one where a surface must not reach a far one.
+        axisymmetric: For bodies of
+            :class:`~dolfinx_contact_s2s.elasticity.Material` ``(plane="axisymmetric")``:
+            weight Eq. (17) by :math:`2\pi r`, with :math:`r = x_0` of the contactor point,
+            so that :math:`\mathbf B` (Eq. 40), :math:`\mathbf G` and the multiplier mass
+            (Eq. 29) are integrals over the 3D surface, the multiplier is the contact
+            pressure and ``contact_forces()`` are total forces, as the forms' loads are.
+            Node-to-segment and node-to-node: a tributary weight is
+            :math:`\int 2\pi r N_i\, ds` (the multiplier a pressure), a unit weight makes
+            the multiplier the node's total ring force. The surfaces must lie in
+            :math:`r \ge 0`; one may touch the axis at an end node.
 
     Returns:
         The :class:`ContactPair`, with its multiplier space ``Q`` (a DOLFINx function
@@ -507,7 +553,9 @@ def contact_pair(
             or quadrature the method cannot use; non-matching meshes for
             ``"node-to-node"``; a ``search_radius`` that is not positive and finite; no
             target, a contactor that is its own target, or surfaces on different
-            communicators.
+            communicators; with ``axisymmetric``, a mesh with a node at :math:`r < 0`, or
+            a surface crossing the axis or lying on it
+            (:mod:`~dolfinx_contact_s2s.axisymmetry`).
     """
     return ContactPair(
         contactor,
@@ -518,4 +566,5 @@ def contact_pair(
         quadrature_points=quadrature_points,
         weight=weight,
         search_radius=search_radius,
+        axisymmetric=axisymmetric,
     )

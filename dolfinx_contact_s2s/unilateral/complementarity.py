@@ -119,6 +119,12 @@ class Complementarity:
         P = multiplier_mass(pair)
         m = P.createVecLeft()
         P.getRowSum(m)
+        if pair.axisymmetric:
+            # A P2 vertex function on the axis has a zero row sum (its r-weighted integral):
+            # its own mass, the diagonal, measures it instead.
+            diagonal = P.getDiagonal()
+            m.array[:] = np.where(m.array_r > 0, m.array_r, diagonal.array_r)
+            diagonal.destroy()
         c = op.G.duplicate()
         n = c.getLocalSize()
         integral, square, m_loc = lengths.array_r[:n], squares.array_r[:n], m.array_r
