@@ -235,6 +235,8 @@ class ContactPair:
 
         curved = contactor.cmap.degree - 1 + max(t.cmap.degree - 1 for t in targets)
         k_u = max(k_c, *(t.element.degree for t in targets))
+        # In axisymmetry the weight 2 pi r raises the integrand's degree by r's.
+        k_u += contactor.cmap.degree if self.axisymmetric else 0
         if quadrature_points is None:
             if quadrature.endswith("newton-cotes"):
                 quadrature_points = max(degree + k_u, 1) + 1
@@ -522,7 +524,9 @@ def contact_pair(
             integrate Eq. (17) exactly on straight segments, plus one per curved
             geometry degree (Gauss: :math:`\lfloor (s + k + 2c)/2 \rfloor + 1` for
             multiplier degree :math:`s`, displacement degree :math:`k` and
-            :math:`c` curved geometry degrees; Newton-Cotes: :math:`s + k + 1`).
+            :math:`c` curved geometry degrees; Newton-Cotes: :math:`s + k + 1`); in
+            axisymmetry :math:`k` counts the degree of :math:`r` too (the contactor's
+            geometry degree).
         weight: For ``"node-to-segment"``: ``"unit"`` (the default, :math:`w^i = 1`: the
             multiplier is a nodal force) or ``"tributary"`` (the node's tributary
             length: the multiplier is a pressure), Eq. (39).

@@ -240,13 +240,13 @@ MATERIALS = {
 }
 
 
-def patch_problem(degree, cell, shift, kind, p=0.6):
+def patch_problem(degree, cell, shift, kind, p=0.6, elements=(7, 5), **options):
     """Two coaxial cylinders pressed by p on the upper's top; the lower's base on u_z = 0.
 
     ``shift`` moves both radially (0: solid cylinders touching the axis, which carries
     u_r = 0; > 0: hollow cylinders, no condition in r: the hoop stiffness holds them).
     """
-    scene = scenes.patch_test(comm, (7, 5), cell=cell)
+    scene = scenes.patch_test(comm, elements, cell=cell)
     a, L, bcs, surf = [], [], [], {}
     for name, body in scene.bodies.items():
         body.mesh.geometry.x[:, 0] += shift
@@ -262,7 +262,7 @@ def patch_problem(degree, cell, shift, kind, p=0.6):
         if name == "lower":
             bcs.append(fix(V, 1, [scenes.BOTTOM], body.facet_tags))
         surf[name] = contact_surface(V, body.facet_tags, body.contact)
-    pair = contact_pair(surf["upper"], surf["lower"], axisymmetric=True)
+    pair = contact_pair(surf["upper"], surf["lower"], axisymmetric=True, **options)
     cls = LinearContactProblem if kind == "tied" else UnilateralContactProblem
     return cls(a, L, [pair], bcs, petsc_options_prefix=f"axi_{kind}_")
 
@@ -292,6 +292,41 @@ def test_axisymmetric_patch_test(degree, cell, shift, kind):
         fz = comm.allreduce(float(owned[:, 1].sum()), op=MPI.SUM)
         area = math.pi * ((1 + shift) ** 2 - shift**2)
         assert abs(abs(fz) - p * area) < 1e-10 * p * area
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"quadrature": "composite-newton-cotes"},
+        {"method": "intermediate-surface"},
+        {"method": "node-to-segment", "weight": "tributary"},
+        {"method": "node-to-segment", "weight": "unit"},
+    ],
+)
+def test_other_discretizations_on_matching_meshes(options):
+    """P1 on matching meshes (6 facets of h = 1/6 on r in [0, 1]), tied, p = 0.6.
+
+    The default rule has one more point for the weight r (one Gauss point, exact for a
+    DG0 multiplier in the plane, is not with r). Pressures: lambda = p; unit weights
+    make lambda the node's total ring force, p int 2 pi r N_i dr: p 2 pi h^2 / 6 on the
+    axis, p 2 pi h r_i inside, p 2 pi (h / 2 - h^2 / 6) at r = 1.
+    """
+    p, h = 0.6, 1 / 6
+    with patch_problem(1, "triangle", 0.0, "tied", p, (6, 6), **options) as problem:
+        (_, _), (lam,) = problem.solve()
+        Q = lam.function_space
+        n = Q.dofmap.index_map.size_local
+        values = lam.x.array[:n]
+        if options.get("weight") == "unit":
+            r = Q.tabulate_dof_coordinates()[:n, 0]
+            inside = 2 * math.pi * h * r
+            on_axis = 2 * math.pi * h**2 / 6
+            outside = 2 * math.pi * (h / 2 - h**2 / 6)
+            expected = p * np.where(r < h / 2, on_axis, np.where(r > 1 - h / 2, outside, inside))
+        else:
+            expected = np.full(n, p)
+        error = np.max(np.abs(values - expected), initial=0.0)
+        assert comm.allreduce(error, op=MPI.MAX) < 1e-10 * p
 
 
 def press_fit(degree, kind, b=1.0, c=2.0, delta=1e-3, E=1.0, nu=0.3):
