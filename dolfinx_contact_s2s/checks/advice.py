@@ -110,7 +110,8 @@ def warn_tied_gaps(problem: typing.Any) -> None:
     r"""Warn (``UserWarning``, the same on every rank) if a tied solve closed open gaps.
 
     For each pair, the weighted initial gaps :math:`\int \mu_j g_0` divided by
-    :math:`\int \mu_j` (a length per multiplier) are compared with
+    :math:`\int \mu_j` (a length per multiplier; in axisymmetry times :math:`2\pi r_j`
+    at the multiplier's node, as :math:`g_0` carries :math:`2\pi r`) are compared with
     :data:`GAP_TOLERANCE` times the contactor's size, and the multipliers with
     :data:`TENSION_TOLERANCE` times the largest: open initial gaps and a negative
     pressure mean the tied problem pulled the surfaces together. Collective.
@@ -128,6 +129,9 @@ def warn_tied_gaps(problem: typing.Any) -> None:
         inactive = op.inactive[(op.inactive >= start) & (op.inactive < start + n)] - start
         keep[inactive] = False
         lengths = pair.multiplier_integrals()[:n]
+        if pair.axisymmetric:
+            # G carries 2 pi r (Eq. 17 in axisymmetry): so does the length, at mu_j's node.
+            lengths = lengths * 2 * np.pi * pair.Q.tabulate_dof_coordinates()[:n, 0]
         with np.errstate(divide="ignore", invalid="ignore"):
             gaps = np.where(lengths > 0, op.G.array_r / lengths, 0.0)[keep]
         values = lam.x.array[:n][keep]
