@@ -150,7 +150,6 @@ def lame_error(degree, n):
     norm = math.sqrt(total(exact**2 * r * dx))
     error = math.sqrt(total((u[0] - exact) ** 2 * r * dx)) / norm
     interpolation = math.sqrt(total((ui[0] - exact) ** 2 * r * dx)) / norm
-    print(degree, n, error, interpolation, error / interpolation)
     return error, interpolation
 
 
