@@ -43,11 +43,15 @@ class Material:
 
     In axisymmetry the forms of :meth:`forms` carry :math:`2\pi r`, and a user's own
     loads must carry it too, through :meth:`weight`:
-    ``L = ufl.inner(t, v) * material.weight(mesh) * ds(k)``. On the axis (:math:`r = 0`) a
-    Dirichlet condition :math:`u_r = 0` is all a user adds (and is required: the hoop term
-    :math:`\int u_r v_r / r\, 2\pi\, dr\, dz` is finite only for :math:`u_r = 0` there; without
-    it the quadrature's finite values let :math:`u_r` drift on the axis). :meth:`forms`
-    raises :class:`ValueError` on every rank for a mesh with :math:`r < 0`.
+    ``L = ufl.inner(t, v) * material.weight(mesh) * ds(k)``. On the axis (:math:`r = 0`) of
+    a solid body a Dirichlet condition :math:`u_r = 0` is all a user adds. It belongs
+    there: the hoop energy :math:`\int u_r^2 / r\, 2\pi\, dr\, dz` is finite only for
+    :math:`u_r = 0` on the axis, but the quadrature (no point at :math:`r = 0`) gives
+    the axis a finite stiffness, so without it :math:`u_r` comes out nonzero there, of
+    the size of the discretization error (measured for a load peaked at the axis on a
+    unit cylinder: 1%, 0.3%, 0.09% of the largest displacement with P1 on 4, 8, 16
+    cells across; 0.1%, 0.02%, 0.003% with P2). :meth:`forms` raises
+    :class:`ValueError` on every rank for a mesh with :math:`r < 0`.
 
     Attributes:
         E: Young's modulus.
