@@ -20,6 +20,14 @@ import re as _re
 from dolfinx_contact_s2s import _moved
 from dolfinx_contact_s2s.elasticity import Material, epsilon, stress_function
 from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.obstacles import (
+    AnalyticObstacle,
+    RigidSurface,
+    circle_obstacle,
+    obstacle,
+    plane_obstacle,
+    rigid_surface,
+)
 from dolfinx_contact_s2s.pair import (
     METHODS,
     ContactPair,
@@ -48,16 +56,22 @@ _moved.install()
 
 __all__ = [
     "METHODS",
+    "AnalyticObstacle",
     "ContactPair",
     "ContactSurface",
     "CouplingBlocks",
     "Material",
+    "RigidSurface",
     "SubSegments",
+    "circle_obstacle",
     "contact_pair",
     "contact_pairs",
     "contact_surface",
     "epsilon",
     "gmsh_session",
     "model_to_mesh",
+    "obstacle",
+    "plane_obstacle",
+    "rigid_surface",
     "stress_function",
 ]
