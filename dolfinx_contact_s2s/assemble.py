@@ -159,7 +159,12 @@ class CouplingOperator:
         G = self.G.copy()
         for surface, B in self.rigid:
             u = surface.displacement(load)
-            B.multAdd(u.x.petsc_vec, G, G)
+            n = B.getLocalSize()[1]
+            # Owned values in a vector destroyed here: a ghosted vector left to the
+            # garbage collector could be destroyed on one rank inside another collective.
+            U = PETSc.Vec().createWithArray(u.x.array[:n].copy(), comm=G.getComm())
+            B.multAdd(U, G, G)
+            U.destroy()
         return G
 
     @property
