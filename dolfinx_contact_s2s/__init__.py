@@ -21,6 +21,14 @@ from dolfinx_contact_s2s import _moved
 from dolfinx_contact_s2s.axisymmetry import check_axis_surface, check_axisymmetric_mesh
 from dolfinx_contact_s2s.elasticity import PLANES, Material, epsilon, stress_function
 from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.obstacles import (
+    AnalyticObstacle,
+    RigidSurface,
+    circle_obstacle,
+    obstacle,
+    plane_obstacle,
+    rigid_surface,
+)
 from dolfinx_contact_s2s.pair import (
     METHODS,
     ContactPair,
@@ -50,18 +58,24 @@ _moved.install()
 __all__ = [
     "METHODS",
     "PLANES",
+    "AnalyticObstacle",
     "ContactPair",
     "ContactSurface",
     "CouplingBlocks",
     "Material",
+    "RigidSurface",
     "SubSegments",
     "check_axis_surface",
     "check_axisymmetric_mesh",
+    "circle_obstacle",
     "contact_pair",
     "contact_pairs",
     "contact_surface",
     "epsilon",
     "gmsh_session",
     "model_to_mesh",
+    "obstacle",
+    "plane_obstacle",
+    "rigid_surface",
     "stress_function",
 ]

@@ -10,8 +10,9 @@ rows to copies. This module needs petsc4py and must be imported explicitly, as
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -138,12 +139,33 @@ class CouplingOperator:
         uncovered: Global multiplier dofs whose support faces no target: the integral
             of :math:`\mu_k` over the covered part is at most
             :data:`UNCOVERED_TOLERANCE` times its integral. Sorted, on every process.
+        rigid: ``(surface, B_T)`` for each rigid target
+            (:class:`~dolfinx_contact_s2s.obstacles.RigidSurface`): its block, kept out of
+            the saddle point; it moves the gap (:meth:`gap`).
     """
 
     pair: ContactPair
     blocks: list[tuple[dolfinx.fem.FunctionSpace, PETSc.Mat]]
     G: PETSc.Vec
     uncovered: npt.NDArray[np.int64]
+    rigid: list[tuple[typing.Any, PETSc.Mat]] = field(default_factory=list)
+
+    def gap(self, load: float = 1.0) -> PETSc.Vec:
+        r"""The gap at load factor ``load``; the caller destroys it.
+
+        :math:`\mathbf G + \sum \mathbf B_T \mathbf U_T(t)` over the rigid targets'
+        prescribed motions :math:`\mathbf U_T(t)`.
+        """
+        G = self.G.copy()
+        for surface, B in self.rigid:
+            u = surface.displacement(load)
+            n = B.getLocalSize()[1]
+            # Owned values in a vector destroyed here: a ghosted vector left to the
+            # garbage collector could be destroyed on one rank inside another collective.
+            U = PETSc.Vec().createWithArray(u.x.array[:n].copy(), comm=G.getComm())
+            B.multAdd(U, G, G)
+            U.destroy()
+        return G
 
     @property
     def inactive(self) -> npt.NDArray[np.int64]:
@@ -156,7 +178,7 @@ class CouplingOperator:
 
     def destroy(self) -> None:
         """Destroy the PETSc matrices and vector."""
-        for _, B in self.blocks:
+        for _, B in self.blocks + self.rigid:
             B.destroy()
         self.G.destroy()
 
@@ -199,7 +221,7 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
     comm = pair.contactor.comm
     backend = pair.contactor.backend
     if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:
-        targets = ", ".join(str(t.tag) for t in pair.targets)
+        targets = ", ".join(str(t.tag) for t in (*pair.targets, *pair.obstacles))
         raise ValueError(
             "the contactor and target surfaces never face each other within the search "
             f"radius (contactor tag {pair.contactor.tag}, target tag(s) {targets}): there is "
@@ -210,8 +232,10 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
     q_map = pair.Q.dofmap.index_map
     spaces: list[dolfinx.fem.FunctionSpace] = []
     parts: list[list] = []
+    rigid: list[typing.Any] = []
+    rigid_parts: list[list] = []
 
-    def add(V: dolfinx.fem.FunctionSpace, part: tuple) -> None:
+    def add(V: typing.Any, part: tuple, spaces: list, parts: list) -> None:
         # Identity, not equality: the same space must give one summed block.
         for k, W in enumerate(spaces):
             if W is V:
@@ -221,12 +245,20 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
         parts.append([part])
 
     for b in groups:
-        add(pair.contactor.V, (b.rows, b.cols_contactor, b.values_contactor))
-        add(b.target.V, (b.rows, b.cols_target, b.values_target))
-    blocks = [
-        (V, _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend))
-        for V, p in zip(spaces, parts, strict=True)
-    ]
+        add(pair.contactor.V, (b.rows, b.cols_contactor, b.values_contactor), spaces, parts)
+        if getattr(b.target, "analytic", False):
+            continue  # no target unknowns and no motion: the gap holds all
+        part = (b.rows, b.cols_target, b.values_target)
+        if b.target.rigid:
+            add(b.target, part, rigid, rigid_parts)
+        else:
+            add(b.target.V, part, spaces, parts)
+
+    def matrix(V: dolfinx.fem.FunctionSpace, p: list) -> PETSc.Mat:
+        return _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend)
+
+    blocks = [(V, matrix(V, p)) for V, p in zip(spaces, parts, strict=True)]
+    rigid_blocks = [(t, matrix(t.V, p)) for t, p in zip(rigid, rigid_parts, strict=True)]
     G = PETSc.Vec().createMPI([q_map.size_local, q_map.size_global], comm=comm)
     for b in groups:
         G.setValues(
@@ -236,7 +268,7 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
         )
     G.assemble()
     uncovered = _uncovered(pair, [b.rows for b in groups], [b.coverage for b in groups])
-    return CouplingOperator(pair, blocks, G, uncovered)
+    return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks)
 
 
 def _lumped(pair: ContactPair, M: PETSc.Mat) -> PETSc.Mat:

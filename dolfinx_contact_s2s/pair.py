@@ -121,7 +121,8 @@ class ContactPair:
 
     Attributes:
         contactor: The contactor surface :math:`\Gamma_C`.
-        targets: The target surfaces.
+        targets: The target surfaces (meshed, deformable or rigid).
+        obstacles: The analytic obstacles among the targets given.
         method: The method name; :attr:`discretization` holds its rules.
         Q: The multiplier space.
         duplicates: Global multiplier dofs left out at construction (the second pass of
@@ -179,9 +180,21 @@ class ContactPair:
             NotImplementedError: On every rank, for a contactor whose facet dimension has
                 no segmentation (:func:`~dolfinx_contact_s2s.segmentation.get_segmentation`).
         """
-        targets = [targets] if isinstance(targets, ContactSurface) else list(targets)
+        single = isinstance(targets, ContactSurface) or hasattr(targets, "coupling_blocks")
+        targets = [targets] if single else list(targets)
         if not targets:
             raise ValueError("a contact pair needs at least one target surface")
+        if getattr(contactor, "rigid", False):
+            raise ValueError(
+                f"the rigid surface {contactor.tag} cannot be a contactor: the contactor "
+                "carries the multiplier and must be deformable; make the rigid surface the "
+                "target, contact_pair(deformable_surface, rigid_surface)"
+            )
+        #: Analytic obstacles among the targets (:mod:`dolfinx_contact_s2s.obstacles`).
+        self.obstacles = [t for t in targets if getattr(t, "analytic", False)]
+        targets = [t for t in targets if not getattr(t, "analytic", False)]
+        if self.obstacles and method in ("node-to-node", "intermediate-surface"):
+            raise ValueError(f"{method} needs target nodes: analytic obstacles have none")
         for target in targets:
             if contactor is target or (
                 contactor.V.mesh is target.V.mesh and contactor.tag == target.tag
@@ -233,8 +246,8 @@ class ContactPair:
             family, degree = discretization.fixed_multiplier
             continuous = False
 
-        curved = contactor.cmap.degree - 1 + max(t.cmap.degree - 1 for t in targets)
-        k_u = max(k_c, *(t.element.degree for t in targets))
+        curved = contactor.cmap.degree - 1 + max((t.cmap.degree - 1 for t in targets), default=0)
+        k_u = max([k_c, *(t.element.degree for t in targets)])
         # In axisymmetry the weight 2 pi r raises the integrand's degree by r's.
         k_u += contactor.cmap.degree if self.axisymmetric else 0
         if quadrature_points is None:
@@ -353,7 +366,8 @@ class ContactPair:
         """Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40), per target.
 
         Returns:
-            One :class:`CouplingBlocks` per target, in the order of :attr:`targets`, with
+            One :class:`CouplingBlocks` per target, in the order of :attr:`targets`, then
+            one per analytic obstacle of :attr:`obstacles` (no target columns), with
             global row and column indices (possibly empty on some processes).
 
         Raises:
@@ -366,11 +380,14 @@ class ContactPair:
                     f"the mesh of contact surface {surface.tag} moved after the surface was "
                     "created: create the contact surfaces and pairs again after moving a mesh"
                 )
+        blocks = [o.coupling_blocks(self) for o in self.obstacles]
+        if not self.targets:
+            return blocks
         gathered = self.discretization.gathered(self)
         groups = self.discretization.points(self, gathered)
         return [
             self._integrate(t, T, g) for t, T, g in zip(self.targets, gathered, groups, strict=True)
-        ]
+        ] + blocks
 
     def _integrate(self, ts: ContactSurface, T: SurfaceData, g: PointGroups) -> CouplingBlocks:
         """The blocks of Eqs. (40)-(42) at the points ``g`` against target ``ts``."""
@@ -498,7 +515,10 @@ def contact_pair(
         contactor: Surface :math:`\Gamma_C` carrying the multiplier, from
             :func:`~dolfinx_contact_s2s.surface.contact_surface`.
         targets: Target surface :math:`\Gamma_T`, or a list of several: on other meshes,
-            or other surfaces of the contactor's own mesh and space.
+            or other surfaces of the contactor's own mesh and space; rigid ones from
+            :func:`~dolfinx_contact_s2s.obstacles.rigid_surface`, or analytic obstacles
+            (:func:`~dolfinx_contact_s2s.obstacles.plane_obstacle`, ...: not with
+            ``"node-to-node"`` or ``"intermediate-surface"``).
         method: The discretization, one of :data:`METHODS`:
             ``"segment-to-segment"`` (the default, section 5, Eqs. 40-42: the new
             algorithm with composite quadrature; passes the patch and inf-sup tests),
@@ -556,9 +576,9 @@ def contact_pair(
             a multiplier family other than Lagrange or DG or a bad degree; a multiplier
             or quadrature the method cannot use; non-matching meshes for
             ``"node-to-node"``; a ``search_radius`` that is not positive and finite; no
-            target, a contactor that is its own target, or surfaces on different
-            communicators; with ``axisymmetric``, a mesh with a node at :math:`r < 0`, or
-            a surface crossing the axis or lying on it
+            target, a contactor that is its own target or rigid, or surfaces on
+            different communicators; with ``axisymmetric``, a mesh with a node at
+            :math:`r < 0`, or a surface crossing the axis or lying on it
             (:mod:`~dolfinx_contact_s2s.axisymmetry`).
     """
     return ContactPair(

@@ -113,6 +113,9 @@ class SurfaceData:
 class ContactSurface:
     """The tagged, owned boundary facets of one body and their displacement space."""
 
+    #: Whether the surface is rigid (no unknowns: :mod:`dolfinx_contact_s2s.obstacles`).
+    rigid = False
+
     def __init__(
         self,
         V: dolfinx.fem.FunctionSpace,

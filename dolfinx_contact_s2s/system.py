@@ -188,6 +188,7 @@ class ContactSystem:
         self.A: PETSc.Mat | None = None
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
+        self.load = 1.0
         self.fields: dict[str, PETSc.IS] = {}
         self._support: checks.SupportGram | None = None
         # PETSc objects of one assembly (kept across the systems built from it), and of
@@ -419,15 +420,15 @@ class ContactSystem:
             load: Factor on :math:`\mathbf F` and the Dirichlet values.
         """
         with self.timed("system"):
+            self.load = float(load)  # the load factor of the current saddle point
             self._assemble_system(released, load)
 
     def _assemble_system(
         self, released: Sequence[npt.NDArray[np.int64]] | None, load: float
     ) -> None:
         nb, npairs = len(self.spaces), len(self.pairs)
-        # K lives in the previous A only (kind="aij"): take it out before A goes, and
-        # free the previous factorization first, so that K is never stored twice
-        # beside a factor.
+        # K lives in the previous A only (kind="aij"): take it out before A goes, and free
+        # the previous factorization first, so that K is never stored twice beside a factor.
         extracted = [] if self._K else [self.stiffness_matrix(i) for i in range(nb)]
         if extracted:
             self.solver.reset()
@@ -444,7 +445,7 @@ class ContactSystem:
         for j, op in enumerate(self.operators):
             off = op.inactive if released is None else np.union1d(op.inactive, released[j])
             active = _active(op, off)
-            G = op.G.copy()
+            G = op.gap(load)  # with the rigid targets' motions at this load
             masked = []
             for V, B in op.blocks:
                 i = self.space_index(V)
@@ -463,8 +464,7 @@ class ContactSystem:
             rhs.append(G)
             self.constraints.append(masked)
             # ``released`` holds each process's own multipliers: decide on all together.
-            if self.comm.allreduce(off.size):
-                # Inactive multipliers: the row reads lambda_k = 0.
+            if self.comm.allreduce(off.size):  # inactive multipliers: rows lambda_k = 0
                 inactive = active.duplicate()
                 inactive.set(1.0)
                 inactive.axpy(-1.0, active)

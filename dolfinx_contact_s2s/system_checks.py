@@ -118,11 +118,15 @@ def check_coordinates(spaces: Sequence[dolfinx.fem.FunctionSpace]) -> None:
 
 
 def check_pairs(pairs: Sequence[ContactPair], space_index: SpaceIndex) -> None:
-    """Raise if a surface is on no space of the problem, or two pairs share a contactor."""
+    """Raise if a surface is on no space of the problem, or two pairs share a contactor.
+
+    Rigid targets (:mod:`~dolfinx_contact_s2s.obstacles`) carry no unknowns: exempt.
+    """
     seen: dict[tuple[int, int], int] = {}
     for j, pair in enumerate(pairs):
         for surface in (pair.contactor, *pair.targets):
-            space_index(surface.V)
+            if not surface.rigid:
+                space_index(surface.V)
         key = (id(pair.contactor.V.mesh), pair.contactor.tag)
         if key in seen:
             raise ValueError(

@@ -165,7 +165,7 @@ def unconstrained_parts(pairs: Sequence[ContactPair]) -> list[Unconstrained]:
         cs = pair.contactor
         own = {_key(cs), *(_key(t) for t in pair.targets)}
         others = [s for k, s in surfaces.items() if k not in own]
-        if not others:
+        if not others or not pair.targets:  # analytic obstacles only: no pieces to cut
             continue
         C = cs.data
         pieces = [pair.sub_segments(k) for k in range(len(pair.targets))]

@@ -160,7 +160,7 @@ class Complementarity:
         with self._timed():
             out = []
             for op in self.operators:
-                g = op.G.copy()
+                g = op.gap(self.system.load)
                 for V, B in op.blocks:
                     B.multAdd(self.system.u[self.system.space_index(V)].x.petsc_vec, g, g)
                 out.append(g.array_r.copy())
@@ -171,7 +171,7 @@ class Complementarity:
         r""":math:`\tilde g` at zero free displacement (the Dirichlet values scaled by ``load``)."""
         out = []
         for op in self.operators:
-            g = op.G.copy()
+            g = op.gap(load)
             for V, B in op.blocks:
                 add_scaled(B, self.system.values[self.system.space_index(V)], load, g)
             out.append(g.array_r.copy())

@@ -1,0 +1,193 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: light
+# ---
+
+# # Rigid obstacles: a cylinder on a rigid plane, and a flat punch
+#
+# Most contact scenes have one body whose deformation nobody wants: a floor, a die, a
+# punch. `dolfinx_contact_s2s.rigid_surface(mesh, facet_tags, tag, motion=...)` makes
+# tagged facets of a mesh that carries no form a rigid target, and
+# `plane_obstacle`, `circle_obstacle` or `obstacle(distance, gradient)` give analytic
+# ones. The saddle point of Eq. (18) then has no target block: the coupling of Eq. (17)
+# is integrated as for a deformable target, and the target's known (prescribed) motion
+# $\mathbf U_T$ moves the gap, $\mathbf G + \mathbf B_T \mathbf U_T$. An analytic
+# obstacle with signed distance $d$ constrains $\int \mu_k (d/|\nabla d| + \hat{\mathbf
+# n} \cdot \mathbf u)\, ds \ge 0$ on the contactor segments.
+#
+# Two closed forms check it:
+#
+# - **Hertz**: an elastic cylinder (plane strain, radius $R$) pressed by $F$ per unit
+#   length on a rigid plane: $1/E^* = (1 - \nu^2)/E$, $a = \sqrt{4FR/(\pi E^*)}$,
+#   $p_0 = 2F/(\pi a)$, $p(x) = p_0\sqrt{1 - x^2/a^2}$. P2, a Gmsh mesh sized from the
+#   geometry only (no node at $\pm a$); the edge is read from the last two active
+#   nodes assuming a square-root edge. The same scene with the floor meshed as an
+#   elastic body $10^6$ times stiffer agrees to the order of $E_1/E_2$, with more
+#   unknowns.
+# - **Flat punch**: an elastic layer pressed by $F$ onto a rigid flat punch of
+#   half-width $a$: $p(x) = F / (\pi\sqrt{a^2 - x^2})$ on a half-plane. The interior
+#   $|x| \le a/2$ is compared; the edge is singular and its nodal value is reported.
+#
+# It writes `results/rigid.json` (records of every rank count side by side),
+# `results/rigid.png` and the section "rigid" of `results/report.md`. Run it as
+# `python3 demos/demo_rigid.py` or `mpirun -n 2 python3 demos/demo_rigid.py`;
+# `--smoke` runs coarser meshes.
+
+# +
+import math
+
+from mpi4py import MPI
+
+import numpy as np
+
+from paper.records import merge_rank_records
+from paper.report import demo_parser, output_folder, rank0_print, write_section
+from paper.rigid import edge_from_multiplier, flat_punch, hertz_on_plane
+
+args = demo_parser("Rigid obstacles: Hertz on a rigid plane, flat punch", "coarser").parse_args()
+comm = MPI.COMM_WORLD
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
+# -
+
+# ## Hertz: a cylinder on a rigid plane
+
+# +
+E, nu, R, a_exact = 1.0, 0.3, 1.0, 0.05
+E_star = E / (1 - nu**2)
+F = a_exact**2 * math.pi * E_star / (4 * R)
+p0 = 2 * F / (math.pi * a_exact)
+h = 0.02 if args.smoke else 0.01
+records, curves = [], {}
+hertz = {}
+for target in ("rigid", "plane", "elastic"):
+    r = hertz_on_plane(comm, F=F, R=R, h=h, target=target, target_E=1e6 * E)
+    exact = p0 * np.sqrt(np.clip(1 - (r.x / a_exact) ** 2, 0.0, None))
+    errors = {
+        "a": abs(edge_from_multiplier(r.x, r.pressure) / a_exact - 1),
+        "p0": abs(r.pressure[0] / p0 - 1),
+        "L2": math.sqrt(np.trapezoid((r.pressure - exact) ** 2, r.x) / np.trapezoid(exact**2, r.x)),
+    }
+    hertz[target] = r
+    curves[f"Hertz, {target} floor"] = (r.x / a_exact, r.pressure / p0)
+    records.append(
+        {
+            "study": "rigid",
+            "scene": f"hertz-{target}",
+            "ranks": comm.size,
+            "unknowns": r.unknowns,
+            "seconds": r.seconds,
+            "errors": errors,
+            "h": h,
+        }
+    )
+    log(
+        f"Hertz, {target:7s} floor: a {errors['a']:.2%}, p0 {errors['p0']:.2%}, "
+        f"L2 {errors['L2']:.2%}; {r.unknowns} unknowns, {r.seconds:.2f} s"
+    )
+    if not args.smoke and not (errors["a"] < 0.01 and errors["p0"] < 0.02 and errors["L2"] < 0.05):
+        raise SystemExit(f"Hertz on a {target} floor misses its tolerances: {errors}")
+difference = np.max(np.abs(hertz["elastic"].pressure - hertz["rigid"].pressure))
+difference /= np.max(hertz["rigid"].pressure)
+saved = hertz["elastic"].unknowns - hertz["rigid"].unknowns
+records.append(
+    {
+        "study": "rigid",
+        "scene": "hertz-stiff-vs-rigid",
+        "ranks": comm.size,
+        "difference": float(difference),
+        "E2_over_E1": 1e6,
+        "unknowns_saved": saved,
+    }
+)
+log(
+    f"stiff elastic floor (E2/E1 = 1e6) against rigid: max |d lambda| / max lambda = "
+    f"{difference:.2e}; the rigid floor saves {saved} unknowns"
+)
+if difference > 1e-4:
+    raise SystemExit("the stiff elastic floor differs from the rigid one by more than 100 E1/E2")
+# -
+
+# ## A flat punch under an elastic layer
+
+# +
+a, force = 1.0, 1.0
+n_under = 20 if args.smoke else 40
+punch = {}
+for depth in (20.0, 40.0):
+    r = flat_punch(comm, F=force, a=a, width=20.0, depth=depth, elements_under=n_under, degree=2)
+    inner = r.x <= 0.5 * a + 1e-12
+    exact = force / (math.pi * np.sqrt(a**2 - r.x[inner] ** 2))
+    punch[depth] = (r, inner, float(np.max(np.abs(r.pressure[inner] / exact - 1))))
+(r20, in20, err20), (r40, in40, err40) = punch[20.0], punch[40.0]
+change = float(
+    np.max(np.abs(np.interp(r20.x[in20], r40.x[in40], r40.pressure[in40]) / r20.pressure[in20] - 1))
+)
+edge = np.flatnonzero(r20.pressure > 0)[-1]
+curves["flat punch (x/a, p a/F)"] = (r20.x / a, r20.pressure * a / force)
+records.append(
+    {
+        "study": "rigid",
+        "scene": "flat-punch",
+        "ranks": comm.size,
+        "force_error": abs(r20.force / (force / 2) - 1),
+        "interior_error": err20,
+        "depth_doubled_change": change,
+        "edge_pressure": float(r20.pressure[edge]),
+        "mean_pressure": force / (2 * a),
+        "unknowns": r20.unknowns,
+        "elements_under": n_under,
+    }
+)
+log(
+    f"flat punch: force error {abs(r20.force / (force / 2) - 1):.1e}, interior |x| <= a/2 within "
+    f"{err20:.2%} of the half-plane, depth doubled changes it by {change:.2%}; edge node "
+    f"pressure {r20.pressure[edge]:.3g} (mean F/2a = {force / (2 * a):.3g}: singular)"
+)
+if not args.smoke and not (err20 < 0.02 and change < 0.005):
+    raise SystemExit("the flat punch misses its tolerances")
+# -
+
+# ## Results
+
+# +
+if comm.rank == 0:
+    merged = merge_rank_records(out / "rigid.json", records, comm.size)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    s = np.linspace(0, 1, 200)
+    axes[0].plot(s, np.sqrt(1 - s**2), "k-", lw=0.8, label="Hertz")
+    for name, (x, p) in curves.items():
+        if name.startswith("Hertz"):
+            axes[0].plot(x, p, ".", label=name)
+    axes[0].set_xlim(0, 1.5)
+    axes[0].set_xlabel("x / a")
+    axes[0].set_ylabel("p / p0")
+    axes[0].legend()
+    x, p = curves["flat punch (x/a, p a/F)"]
+    xs = np.linspace(0, 0.99, 200)
+    axes[1].plot(xs, 1 / (np.pi * np.sqrt(1 - xs**2)), "k-", lw=0.8, label="half-plane")
+    axes[1].plot(x, p, ".", label="rigid punch, P2")
+    axes[1].set_xlim(0, 1.2)
+    axes[1].set_ylim(0, 3)
+    axes[1].set_xlabel("x / a")
+    axes[1].set_ylabel("p a / F")
+    axes[1].legend()
+    fig.tight_layout()
+    fig.savefig(out / "rigid.png", dpi=120)
+
+    lines = ["## Rigid obstacles", "", "`demos/demo_rigid.py`: ![pressures](rigid.png)", ""]
+    for rec in merged:
+        lines.append("- " + ", ".join(f"{k} {v}" for k, v in rec.items() if k != "study"))
+    write_section(out / "report.md", "rigid", lines)
+# -

@@ -1,0 +1,126 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Rigid obstacles against closed-form solutions: Hertz on a rigid plane, a flat punch.
+
+References from outside the code: Hertz's line contact of a cylinder on a rigid plane
+(1/E* = (1 - nu^2)/E, a = sqrt(4 F R / (pi E*)), p0 = 2 F / (pi a)), the flat punch on
+a half-plane (p = F / (pi sqrt(a^2 - x^2))), and the applied forces (equilibrium).
+Meshes are made as a user would (Gmsh, sizes from the geometry, no node at the Hertz
+edge); P2 only for Hertz (P1 reaches 1% on a only with adaptive refinement, not here).
+"""
+
+import math
+from pathlib import Path
+
+from mpi4py import MPI
+
+import numpy as np
+import pytest
+
+from paper.records import merge_rank_records
+from paper.rigid import edge_from_multiplier, flat_punch, hertz_on_plane
+
+comm = MPI.COMM_WORLD
+E, NU, R = 1.0, 0.3, 1.0
+E_STAR = E / (1 - NU**2)
+A = 0.05  # the Hertz half-width the load is chosen for (a/R = 5%)
+F = A**2 * math.pi * E_STAR / (4 * R)  # a = sqrt(4 F R / (pi E*))
+P0 = 2 * F / (math.pi * A)
+RESULTS = Path(__file__).resolve().parents[2] / "results" / "rigid.json"
+
+
+def hertz_errors(result):
+    """Relative errors of a (square-root edge, local), p0 and the L2 pressure."""
+    x, p = result.x, result.pressure
+    exact = P0 * np.sqrt(np.clip(1 - (x / A) ** 2, 0.0, None))
+    # L2 on the contactor by the trapezoidal rule on the multiplier's nodes (spacing h/2).
+    l2 = math.sqrt(np.trapezoid((p - exact) ** 2, x) / np.trapezoid(exact**2, x))
+    a = edge_from_multiplier(x, p)
+    return abs(a / A - 1), abs(p[0] / P0 - 1), l2
+
+
+@pytest.fixture(scope="module")
+def hertz_rigid():
+    return hertz_on_plane(comm, F=F, R=R, h=0.01, degree=2, target="rigid")
+
+
+@pytest.mark.parametrize("target", ["rigid", "plane"])
+def test_hertz_cylinder_on_rigid_plane(target, hertz_rigid):
+    result = hertz_rigid if target == "rigid" else hertz_on_plane(comm, F=F, target=target)
+    a_err, p0_err, l2_err = hertz_errors(result)
+    assert a_err < 0.01
+    assert p0_err < 0.02
+    assert l2_err < 0.05
+    if target == "plane":
+        # The plane's normal is the load's direction: the contact force is the load.
+        assert result.force == pytest.approx(F / 2, rel=1e-10)
+
+
+def test_stiff_elastic_floor_agrees_with_rigid(hertz_rigid):
+    """The floor meshed as an elastic body, E2/E1 = 1e6: lambda differs by O(E1/E2).
+
+    The floor's compliance adds to the approach of the cylinder a displacement E1/E2
+    times the floor's own contact displacement, which in 2D grows like log(size / a)
+    (about 2 here): a difference of a few E1/E2. 100 E1/E2 leaves that margin without
+    hiding an error of the discretization (1e-2).
+    """
+    ratio = 1e6
+    stiff = hertz_on_plane(comm, F=F, target="elastic", target_E=ratio * E)
+    rigid = hertz_rigid
+    np.testing.assert_allclose(stiff.x, rigid.x, rtol=0, atol=1e-14)
+    difference = np.max(np.abs(stiff.pressure - rigid.pressure)) / np.max(rigid.pressure)
+    assert difference < 100 / ratio
+    assert rigid.unknowns < stiff.unknowns
+    a_err, p0_err, l2_err = hertz_errors(rigid)
+    record = {
+        "study": "rigid-hertz",
+        "ranks": comm.size,
+        "difference_stiff_vs_rigid": float(difference),
+        "E2_over_E1": ratio,
+        "unknowns": {"rigid": rigid.unknowns, "elastic": stiff.unknowns},
+        "seconds": {"rigid": rigid.seconds, "elastic": stiff.seconds},
+        "errors_rigid": {"a": a_err, "p0": p0_err, "L2": l2_err},
+    }
+    if comm.rank == 0:
+        merge_rank_records(RESULTS.with_name("rigid_hertz.json"), [record], comm.size)
+
+
+def test_flat_punch():
+    """Force to 1e-10; interior pressure within 2% of the half-plane; depth doubled < 0.5%.
+
+    About 40 P2 elements under the punch (2a), a layer 20a wide and deep; the edge
+    nodes' pressure (singular in the exact solution) is reported in results/.
+    """
+    a, force = 1.0, 1.0
+    results = [
+        flat_punch(comm, F=force, a=a, width=20.0, depth=d, elements_under=40, degree=2)
+        for d in (20.0, 40.0)
+    ]
+    interior = []
+    for r in results:
+        assert r.force == pytest.approx(force / 2, rel=1e-10)
+        inner = r.x <= 0.5 * a + 1e-12
+        exact = force / (math.pi * np.sqrt(a**2 - r.x[inner] ** 2))
+        assert np.max(np.abs(r.pressure[inner] / exact - 1)) < 0.02
+        interior.append((r.x[inner], r.pressure[inner]))
+    (x1, p1), (x2, p2) = interior
+    change = np.max(np.abs(np.interp(x1, x2, p2) / p1 - 1))
+    assert change < 0.005
+    shallow = results[0]
+    edge = np.flatnonzero(shallow.pressure > 0)[-1]
+    # Reported, not hidden: the edge node carries many times the mean pressure F/(2a).
+    assert shallow.x[edge] == pytest.approx(a, rel=1e-12)
+    assert shallow.pressure[edge] > 5 * force / (2 * a)
+    inner = shallow.x <= 0.5 * a + 1e-12
+    exact = force / (math.pi * np.sqrt(a**2 - shallow.x[inner] ** 2))
+    record = {
+        "study": "rigid-punch",
+        "ranks": comm.size,
+        "interior_error": float(np.max(np.abs(shallow.pressure[inner] / exact - 1))),
+        "depth_doubled_change": float(change),
+        "edge_pressure": float(shallow.pressure[edge]),
+        "mean_pressure": force / (2 * a),
+        "unknowns": shallow.unknowns,
+    }
+    if comm.rank == 0:
+        merge_rank_records(RESULTS.with_name("rigid_punch.json"), [record], comm.size)
