@@ -337,7 +337,7 @@ class AnalyticObstacle:
             phi[:, None, :],
             np.zeros((S, 1, 1)),
             np.ascontiguousarray(normal[sel, None, :]),
-            g.weights,
+            pair.point_weights(g, x[sel]),
             gap[sel, None],
         )
         coverage = mu * g.weights

@@ -424,7 +424,7 @@ class ContactPair:
             phi_c.reshape(S, nq, phi_c.shape[1]),
             phi_t.reshape(S, nq, phi_t.shape[1]),
             normals.reshape(S, nq, gdim),
-            self._point_weights(g, x_c + origin),
+            self.point_weights(g, x_c + origin),
             gaps.reshape(S, nq),
         )
         # Whether mu_k faces a target is a property of its support: the plain weights (a
@@ -434,7 +434,7 @@ class ContactPair:
             ts, g.rows, C.dofs[g.contactor], b_c, T.dofs[g.target], b_t, gap, coverage
         )
 
-    def _point_weights(
+    def point_weights(
         self, g: PointGroups, x: npt.NDArray[np.floating]
     ) -> npt.NDArray[np.floating]:
         r"""The weights of Eq. (40) at contactor points ``x``: times :math:`2\pi r` in axisymmetry.
