@@ -43,6 +43,7 @@ __all__ = [
     "check_forms",
     "check_pairs",
     "check_redundancy",
+    "check_ring_weights",
     "check_solve",
     "check_support",
     "relative_residual",
@@ -190,6 +191,7 @@ def check_support(
         The support data, kept: a unilateral iteration checks its active sets against it
         (without :math:`\mathbf K`).
     """
+    check_ring_weights(spaces, stiffness, masks, operators, space_index)
     constraints = _constraints(operators, space_index)
     support = checks.support_gram(
         list(spaces), list(stiffness), list(masks), constraints, labels=list(labels)
@@ -198,6 +200,48 @@ def check_support(
     if motions:
         raise unsupported_error(motions, support)
     return support
+
+
+def check_ring_weights(
+    spaces: Sequence[dolfinx.fem.FunctionSpace],
+    stiffness: Sequence[PETSc.Mat],
+    masks: Sequence[PETSc.Vec],
+    operators: Sequence[CouplingOperator],
+    space_index: SpaceIndex,
+) -> None:
+    r"""Raise if a pair's ``axisymmetric`` contradicts the forms of its bodies.
+
+    Read from :math:`\mathbf K` (:func:`~dolfinx_contact_s2s.checks.ring.translation_residuals`):
+    axisymmetric forms store energy in a radial translation only, plane forms in none.
+    Forms that store energy in both (an elastic foundation) are not judged.
+    """
+    tol = checks.RING_TOLERANCE
+    verdicts: dict[int, str | None] = {}
+    for op in operators:
+        pair = op.pair
+        for surface in (pair.contactor, *(t for t in pair.targets if not t.rigid)):
+            i = space_index(surface.V)
+            if i not in verdicts:
+                bs = spaces[i].dofmap.index_map_bs
+                r = checks.translation_residuals(stiffness[i], masks[i], bs) if bs == 2 else None
+                if r is None or r[1] > tol:
+                    verdicts[i] = None
+                elif r[0] > 100 * tol:
+                    verdicts[i] = "axisymmetric"
+                else:
+                    verdicts[i] = "plane" if r[0] <= tol else None
+            if verdicts[i] is None or (verdicts[i] == "axisymmetric") == pair.axisymmetric:
+                continue
+            stores = "stores" if verdicts[i] == "axisymmetric" else "stores no"
+            plane = "axisymmetric" if pair.axisymmetric else "strain"
+            raise ValueError(
+                f"contact surface {surface.tag} is on a body whose forms are {verdicts[i]} "
+                f"(a radial translation {stores} energy), but its pair has "
+                f"axisymmetric={pair.axisymmetric}: the multiplier would be the pressure "
+                "times 2 pi r, or divided by it. Make the pair with contact_pair(..., "
+                f"axisymmetric={not pair.axisymmetric}), or the forms with "
+                f"Material(plane={plane!r})"
+            )
 
 
 def check_redundancy(

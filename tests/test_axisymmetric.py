@@ -239,7 +239,9 @@ MATERIALS = {
 }
 
 
-def patch_problem(degree, cell, shift, kind, p=0.6, elements=(7, 5), **options):
+def patch_problem(
+    degree, cell, shift, kind, p=0.6, elements=(7, 5), plane="axisymmetric", **options
+):
     """Two coaxial cylinders pressed by p on the upper's top; the lower's base on u_z = 0.
 
     ``shift`` moves both radially (0: solid cylinders touching the axis, which carries
@@ -250,7 +252,7 @@ def patch_problem(degree, cell, shift, kind, p=0.6, elements=(7, 5), **options):
     for name, body in scene.bodies.items():
         body.mesh.geometry.x[:, 0] += shift
         V = dolfinx.fem.functionspace(body.mesh, ("Lagrange", degree, (2,)))
-        material = MATERIALS[name]
+        material = Material(MATERIALS[name].E, MATERIALS[name].nu, plane)
         form, _, v = material.forms(V)
         ds = ufl.Measure("ds", domain=body.mesh, subdomain_data=body.facet_tags)
         a.append(form)
@@ -261,7 +263,8 @@ def patch_problem(degree, cell, shift, kind, p=0.6, elements=(7, 5), **options):
         if name == "lower":
             bcs.append(fix(V, 1, [scenes.BOTTOM], body.facet_tags))
         surf[name] = contact_surface(V, body.facet_tags, body.contact)
-    pair = contact_pair(surf["upper"], surf["lower"], axisymmetric=True, **options)
+    options.setdefault("axisymmetric", True)
+    pair = contact_pair(surf["upper"], surf["lower"], **options)
     cls = LinearContactProblem if kind == "tied" else UnilateralContactProblem
     return cls(a, L, [pair], bcs, petsc_options_prefix=f"axi_{kind}_")
 
@@ -418,6 +421,22 @@ def test_mesh_behind_the_axis():
     # Its right side lies at r = 1 > 0: the surface is fine, the mesh is not.
     right = contact_surface(V, tags, RIGHT)
     raises_everywhere("node(s) at r = x[0] < 0", contact_pair, contactor, right, axisymmetric=True)
+
+
+@pytest.mark.parametrize(("plane", "axisymmetric"), [("axisymmetric", False), ("strain", True)])
+def test_ring_weight_contradicting_the_forms(plane, axisymmetric):
+    """A pair whose ``axisymmetric`` contradicts its bodies' forms is named, not solved.
+
+    Solved, the multiplier would be the pressure times (or over) 2 pi r: a plausible
+    answer, wrong by a factor. The forms tell: an axisymmetric stiffness stores energy
+    in a radial translation (the hoop strain u_r / r), a plane one in none.
+    """
+
+    def solve():
+        with patch_problem(2, "triangle", 0.0, "tied", plane=plane, axisymmetric=axisymmetric) as p:
+            p.solve()
+
+    raises_everywhere(f"its pair has axisymmetric={axisymmetric}", solve)
 
 
 def test_surface_on_the_axis():

@@ -77,6 +77,7 @@ from dolfinx_contact_s2s.checks.rank import (
     redundant_constraints,
     redundant_multipliers,
 )
+from dolfinx_contact_s2s.checks.ring import RING_TOLERANCE, translation_residuals
 from dolfinx_contact_s2s.checks.support import (
     UNSUPPORTED_TOL,
     RigidMotion,
@@ -89,6 +90,7 @@ from dolfinx_contact_s2s.checks.support import (
 __all__ = [
     "COVER_TOL",
     "REDUNDANT_TOL",
+    "RING_TOLERANCE",
     "UNSUPPORTED_TOL",
     "Redundancy",
     "RigidMotion",
@@ -104,6 +106,7 @@ __all__ = [
     "redundant_multipliers",
     "rigid_body_modes",
     "support_gram",
+    "translation_residuals",
     "unconstrained_parts",
     "unsupported_motions",
 ]
