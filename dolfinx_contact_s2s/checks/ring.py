@@ -26,7 +26,7 @@ RING_TOLERANCE = 1e-11
 
 
 def translation_residuals(K: PETSc.Mat, mask: PETSc.Vec, bs: int) -> np.ndarray | None:
-    r"""Largest :math:`|(\mathbf K \mathbf t_d)_i| / \max_i K_{ii}` per direction ``d`` (collective).
+    r"""Largest :math:`|(\mathbf K \mathbf t_d)_i| / \max_i K_{ii}` per direction (collective).
 
     Over the free rows ``i`` that couple to no Dirichlet dof (there a rigid translation
     of the free dofs alone is one of the whole body). The same array on every process.
