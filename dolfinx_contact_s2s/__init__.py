@@ -28,6 +28,15 @@ from dolfinx_contact_s2s.pair import (
     contact_pair,
     contact_pairs,
 )
+from dolfinx_contact_s2s.postprocess import (
+    ContactEdge,
+    ContactForce,
+    ContactZone,
+    PressureProfile,
+    contact_force,
+    contact_zones,
+    pressure_profile,
+)
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
 
 
@@ -48,16 +57,23 @@ _moved.install()
 
 __all__ = [
     "METHODS",
+    "ContactEdge",
+    "ContactForce",
     "ContactPair",
     "ContactSurface",
+    "ContactZone",
     "CouplingBlocks",
     "Material",
+    "PressureProfile",
     "SubSegments",
+    "contact_force",
     "contact_pair",
     "contact_pairs",
     "contact_surface",
+    "contact_zones",
     "epsilon",
     "gmsh_session",
     "model_to_mesh",
+    "pressure_profile",
     "stress_function",
 ]
