@@ -29,7 +29,7 @@ the arclength runs along the chords of the facets.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from mpi4py import MPI
