@@ -27,7 +27,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.compat import refine_marked
+from dolfinx_contact_s2s.compat import blocked_sub_element, refine_marked
 from dolfinx_contact_s2s.postprocess import ContactZone, contact_zones
 from dolfinx_contact_s2s.unilateral.problem import UnilateralContactProblem
 
@@ -190,11 +190,12 @@ def refine_contact_zone(
         raise ValueError(f"layers must be positive, not {layers!r}")
     for m in meshes:
         simplex = m.topology.cell_name() in ("interval", "triangle", "tetrahedron")
-        if not simplex or m.geometry.cmap.degree != 1:
+        degree = blocked_sub_element(m.ufl_domain().ufl_coordinate_element()).degree
+        if not simplex or degree != 1:
             raise NotImplementedError(
                 f"refine_contact_zone needs simplices with a linear geometry: DOLFINx "
                 f"refines no {m.topology.cell_name()} mesh of geometry degree "
-                f"{m.geometry.cmap.degree}; mesh the scene with triangles and linear geometry"
+                f"{degree}; mesh the scene with triangles and linear geometry"
             )
 
     history: list[AdaptiveStep] = []

@@ -24,6 +24,7 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface, epsilon
+from dolfinx_contact_s2s.compat import geometry_dofmap
 from dolfinx_contact_s2s.postprocess import contact_zones
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 from dolfinx_contact_s2s.unilateral.adaptive import refine_contact_zone
@@ -47,17 +48,38 @@ CASE = HertzCase(
 
 
 def snap_to_arcs(mesh: dolfinx.mesh.Mesh, facet_tags, case: HertzCase) -> None:
-    """Move the nodes of the tagged arcs onto their circles (the nodes a refinement added)."""
+    """Move the nodes of the tagged arcs onto their circles (the nodes a refinement added).
+
+    Collective: a node is moved on every process that holds it, also where the tagged
+    facet is another process's (the moves are summed over processes in a P1 field).
+    """
     fdim = mesh.topology.dim - 1
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
+    move = dolfinx.fem.Function(V)
+    count = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("Lagrange", 1)))
+    x = V.tabulate_dof_coordinates()[:, :2]
     arcs = (
         ((TAGS["contactor"], TAGS["upper_rest"]), (0.0, case.R1), case.R1),
         ((TAGS["target"], TAGS["lower_top_rest"]), (0.0, -case.R2), case.R2),
     )
     for tags, centre, radius in arcs:
         facets = np.concatenate([facet_tags.find(t) for t in tags]).astype(np.int32)
-        nodes = np.unique(dolfinx.mesh.entities_to_geometry(mesh, fdim, facets).reshape(-1))
-        x = mesh.geometry.x[nodes, :2] - centre
-        mesh.geometry.x[nodes, :2] = centre + radius * x / np.linalg.norm(x, axis=1)[:, None]
+        dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
+        r = x[dofs] - centre
+        target = centre + radius * r / np.linalg.norm(r, axis=1)[:, None]
+        move.x.array.reshape(-1, 2)[dofs] = target - x[dofs]
+        count.x.array[dofs] = 1.0
+    for f in (move, count):
+        f.x.scatter_reverse(dolfinx.la.InsertMode.add)
+    n = count.x.array[: count.function_space.dofmap.index_map.size_local]
+    owned = move.x.array.reshape(-1, 2)[: n.size]
+    owned[n > 0] /= n[n > 0, None]
+    move.x.scatter_forward()
+    # Linear geometry: the P1 dofs of a cell and its geometry nodes are the same points.
+    cells = V.dofmap.list
+    nodes = geometry_dofmap(mesh)[: cells.shape[0]]
+    unique, first = np.unique(nodes.reshape(-1), return_index=True)
+    mesh.geometry.x[unique, :2] += move.x.array.reshape(-1, 2)[cells.reshape(-1)[first]]
 
 
 def build(case: HertzCase = CASE, prefix: str = "hertz_adaptive_") -> Callable:
@@ -65,7 +87,7 @@ def build(case: HertzCase = CASE, prefix: str = "hertz_adaptive_") -> Callable:
 
     def make(mesh, cell_tags, facet_tags) -> UnilateralContactProblem:
         if not math.isinf(case.R2):
-            mesh.topology.create_connectivity(mesh.topology.dim - 1, 0)
+            mesh.topology.create_connectivity(mesh.topology.dim - 1, mesh.topology.dim)
             snap_to_arcs(mesh, facet_tags, case)
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
         Q0 = dolfinx.fem.functionspace(mesh, ("Discontinuous Lagrange", 0))
