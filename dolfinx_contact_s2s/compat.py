@@ -120,10 +120,11 @@ def refine_marked(
 ) -> tuple[typing.Any, list[typing.Any]]:
     """Split the given edges of a simplex mesh (collective) and carry tags over.
 
-    :func:`dolfinx.mesh.refine` keeps every refined cell on its parent's process: up to
-    0.9 with ``partitioner=None``, from 0.10 with its default (which also rebuilds the
-    ghost layer). The parent cells and facets it returns map ``tags`` (cell or facet
-    tags of ``mesh``) to the new mesh with :func:`dolfinx.mesh.transfer_meshtag`.
+    :func:`dolfinx.mesh.refine` keeps every refined cell on its parent's process
+    (``partitioner=None``, in 0.9 and 0.11 alike; 0.11's default would also rebuild a
+    ghost layer that the parent maps do not cover). The parent cells and facets it
+    returns map ``tags`` (cell or facet tags of ``mesh``) to the new mesh with
+    :func:`dolfinx.mesh.transfer_meshtag`.
 
     Args:
         mesh: A mesh of triangles or tetrahedra with a linear coordinate element.
@@ -137,12 +138,11 @@ def refine_marked(
     tdim = mesh.topology.dim
     mesh.topology.create_entities(1)
     option = dolfinx.mesh.RefinementOption.parent_cell_and_facet
-    if DOLFINX_VERSION >= (0, 10):
-        new, parent_cell, parent_facet = dolfinx.mesh.refine(mesh, edges, option=option)
-    else:
-        new, parent_cell, parent_facet = dolfinx.mesh.refine(
-            mesh, edges, partitioner=None, option=option
-        )
+    # No redistribution and no ghost cells (0.9's only way; from 0.10 the default rebuilds
+    # a ghost layer, whose cells the parent map does not cover: transfer_meshtag fails).
+    new, parent_cell, parent_facet = dolfinx.mesh.refine(
+        mesh, edges, partitioner=None, option=option
+    )
     out = []
     for tag in tags:
         new.topology.create_entities(tag.dim)

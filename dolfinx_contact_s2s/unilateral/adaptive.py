@@ -200,7 +200,6 @@ def refine_contact_zone(
 
     history: list[AdaptiveStep] = []
     problem: UnilateralContactProblem | None = None
-    comm = meshes[0].comm
     for step in range(int(max_steps) + 1):
         begin = time.perf_counter()
         if problem is not None:
@@ -223,7 +222,7 @@ def refine_contact_zone(
                 if edge.bracket > tolerance * reference:
                     radius = layers * edge.bracket
                     wide += [np.append(p, radius) for p in edge.bracket_points]
-        seconds = comm.bcast(time.perf_counter() - begin, root=0)
+        seconds = problem.comm.bcast(time.perf_counter() - begin, root=0)
         history.append(AdaptiveStep(_unknowns(problem), widest, relative, zones, seconds))
         logger.info(
             "contact edge, step %d: %d unknowns, widest bracket %.3g (%.3g of the reference), "
