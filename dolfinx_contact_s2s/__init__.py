@@ -37,6 +37,15 @@ from dolfinx_contact_s2s.pair import (
     contact_pair,
     contact_pairs,
 )
+from dolfinx_contact_s2s.postprocess import (
+    ContactEdge,
+    ContactForce,
+    ContactZone,
+    PressureProfile,
+    contact_force,
+    contact_zones,
+    pressure_profile,
+)
 from dolfinx_contact_s2s.surface import ContactSurface, contact_surface
 
 
@@ -59,23 +68,30 @@ __all__ = [
     "METHODS",
     "PLANES",
     "AnalyticObstacle",
+    "ContactEdge",
+    "ContactForce",
     "ContactPair",
     "ContactSurface",
+    "ContactZone",
     "CouplingBlocks",
     "Material",
+    "PressureProfile",
     "RigidSurface",
     "SubSegments",
     "check_axis_surface",
     "check_axisymmetric_mesh",
     "circle_obstacle",
+    "contact_force",
     "contact_pair",
     "contact_pairs",
     "contact_surface",
+    "contact_zones",
     "epsilon",
     "gmsh_session",
     "model_to_mesh",
     "obstacle",
     "plane_obstacle",
+    "pressure_profile",
     "rigid_surface",
     "stress_function",
 ]

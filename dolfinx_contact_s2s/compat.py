@@ -15,6 +15,7 @@ __all__ = [
     "blocked_sub_element",
     "geometry_dofmap",
     "gmsh_model_to_mesh",
+    "refine_marked",
     "submesh_parent_entities",
 ]
 
@@ -112,3 +113,41 @@ def geometry_dofmap(mesh: typing.Any) -> npt.NDArray[np.int32]:
     if isinstance(dofmaps, list):
         return dofmaps[0]
     return mesh.geometry.dofmap
+
+
+def refine_marked(
+    mesh: typing.Any, edges: npt.NDArray[np.int32], tags: typing.Sequence[typing.Any] = ()
+) -> tuple[typing.Any, list[typing.Any]]:
+    """Split the given edges of a simplex mesh (collective) and carry tags over.
+
+    :func:`dolfinx.mesh.refine` keeps every refined cell on its parent's process
+    (``partitioner=None``, in 0.9 and 0.11 alike; 0.11's default would also rebuild a
+    ghost layer that the parent maps do not cover). The parent cells and facets it
+    returns map ``tags`` (cell or facet tags of ``mesh``) to the new mesh with
+    :func:`dolfinx.mesh.transfer_meshtag`.
+
+    Args:
+        mesh: A mesh of triangles or tetrahedra with a linear coordinate element.
+        edges: Process-local indices of the edges to split (DOLFINx adds the edges
+            needed to keep the mesh conforming).
+        tags: Mesh tags of ``mesh`` (of its cells or facets) to transfer.
+
+    Returns:
+        The refined mesh and the tags on it, in the order of ``tags``.
+    """
+    tdim = mesh.topology.dim
+    mesh.topology.create_entities(1)
+    option = dolfinx.mesh.RefinementOption.parent_cell_and_facet
+    # No redistribution and no ghost cells (0.9's only way; from 0.10 the default rebuilds
+    # a ghost layer, whose cells the parent map does not cover: transfer_meshtag fails).
+    new, parent_cell, parent_facet = dolfinx.mesh.refine(
+        mesh, edges, partitioner=None, option=option
+    )
+    out = []
+    for tag in tags:
+        new.topology.create_entities(tag.dim)
+        if tag.dim == tdim - 1:
+            new.topology.create_connectivity(tdim - 1, tdim)
+        facet = parent_facet if tag.dim == tdim - 1 else None
+        out.append(dolfinx.mesh.transfer_meshtag(tag, new, parent_cell, facet))
+    return new, out

@@ -19,7 +19,13 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import Material, contact_pair, contact_surface, stress_function
+from dolfinx_contact_s2s import (
+    Material,
+    contact_force,
+    contact_pair,
+    contact_surface,
+    stress_function,
+)
 from dolfinx_contact_s2s.assemble import assemble_coupling, multiplier_mass
 from dolfinx_contact_s2s.la import gather_dense
 from dolfinx_contact_s2s.problem import LinearContactProblem
@@ -294,6 +300,11 @@ def test_axisymmetric_patch_test(degree, cell, shift, kind):
         fz = comm.allreduce(float(owned[:, 1].sum()), op=MPI.SUM)
         area = math.pi * ((1 + shift) ** 2 - shift**2)
         assert abs(abs(fz) - p * area) < 1e-10 * p * area
+        # The pair's resultant and its ring-weighted pressure integral (post-processing).
+        resultant = contact_force(problem.pairs[0], lam)
+        assert abs(resultant.contactor[1] - p * area) < 1e-10 * p * area
+        assert abs(resultant.contactor[0]) < 1e-10 * p * area
+        assert abs(resultant.pressure_integral - p * area) < 1e-10 * p * area
 
 
 @pytest.mark.parametrize(

@@ -40,6 +40,12 @@ contactor's facet size around :math:`j`: :math:`1.5 h` for P1) and :math:`\kappa
 This package needs petsc4py and must be imported explicitly.
 """
 
+from dolfinx_contact_s2s.unilateral.adaptive import (
+    AdaptiveResult,
+    AdaptiveStep,
+    RefinementError,
+    refine_contact_zone,
+)
 from dolfinx_contact_s2s.unilateral.history import (
     ContactConvergenceError,
     ContactHistory,
@@ -58,10 +64,14 @@ __all__ = [
     "ALGORITHMS",
     "DEFAULT_PENALTY",
     "STARTS",
+    "AdaptiveResult",
+    "AdaptiveStep",
     "ContactConvergenceError",
     "ContactHistory",
     "Iteration",
     "LoadStep",
+    "RefinementError",
     "UnilateralContactProblem",
     "Update",
+    "refine_contact_zone",
 ]

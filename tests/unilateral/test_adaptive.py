@@ -1,0 +1,81 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""Adaptive refinement of the contact edge, against Hertz's half-width.
+
+The two-cylinder scene of issue 9 (R1 = 1, R2 = 3, unequal materials) meshed as a user
+meshes it: 10 P1 triangles across the contact, no node at the exact edges.
+"""
+
+from mpi4py import MPI
+
+import dolfinx
+import numpy as np
+import pytest
+
+from dolfinx_contact_s2s.unilateral import RefinementError, refine_contact_zone
+from paper.hertz.adaptive import CASE, build
+from paper.hertz.scene import hertz
+
+
+def _scene():
+    return hertz(
+        MPI.COMM_WORLD,
+        R=CASE.R1,
+        a=CASE.a,
+        elements_across=CASE.elements_across,
+        lower_radius=CASE.R2,
+        edge_nodes=False,
+    )
+
+
+def test_edge_to_one_percent_of_a():
+    scene = _scene()
+    a = CASE.exact.a
+    result = refine_contact_zone(
+        build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, tolerance=0.01, length=a
+    )
+    with result.problem:
+        history = result.history
+        assert len(history) <= 6  # within 5 refinements
+        assert history[0].bracket > 0.1 * a  # 10 elements across: a bracket of 0.2 a
+        (zone,) = history[-1].zones[0]
+        for edge in (zone.start, zone.end):
+            x0, x1 = edge.bracket_points[:, 0]
+            assert abs(x1 - x0) <= 0.01 * a
+        half = 0.5 * (zone.end.point[0] - zone.start.point[0])
+        assert half == pytest.approx(a, rel=0.01)
+        assert [s.unknowns for s in history] == sorted(s.unknowns for s in history)
+        mesh = result.meshes[0]
+        assert mesh.topology.index_map(2).size_global > scene.mesh.topology.index_map(2).size_global
+
+
+def test_tolerance_not_reached_says_how_far():
+    scene = _scene()
+    with pytest.raises(RefinementError, match="widest bracket") as raised:
+        refine_contact_zone(
+            build(CASE, prefix="adaptive_fail_"),
+            scene.mesh,
+            scene.cell_tags,
+            scene.facet_tags,
+            tolerance=0.01,
+            length=CASE.exact.a,
+            max_steps=1,
+        )
+    assert len(raised.value.history) == 2
+    assert raised.value.history[-1].relative > 0.01
+    raised.value.problem.destroy()
+
+
+def test_quadrilaterals_and_bad_arguments():
+    mesh = dolfinx.mesh.create_unit_square(
+        MPI.COMM_WORLD, 2, 2, dolfinx.mesh.CellType.quadrilateral
+    )
+    tags = dolfinx.mesh.meshtags(mesh, 2, np.empty(0, np.int32), np.empty(0, np.int32))
+    with pytest.raises(NotImplementedError, match="simplices"):
+        refine_contact_zone(lambda *args: None, mesh, tags, tags)
+    scene = _scene()
+    for bad in ({"tolerance": 0.0}, {"max_steps": -1}, {"length": -1.0}, {"layers": 0.0}):
+        with pytest.raises(ValueError):
+            refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, **bad)
+    with pytest.raises(ValueError, match="as many"):
+        refine_contact_zone(build(CASE), [scene.mesh], [scene.cell_tags], [])
