@@ -46,9 +46,12 @@ from dolfinx_contact_s2s import (
 from paper.rigid import edge_from_multiplier
 
 __all__ = [
+    "SCENES",
     "AxiResult",
     "hertz_exact",
     "hertz_measures",
+    "model_error",
+    "run",
     "sphere_on_plane",
     "two_spheres",
 ]
@@ -130,13 +133,20 @@ def _size_field(gmsh: typing.Any, point: int, near: float, far: float, reach: fl
 
 
 def hemisphere(
-    comm: MPI.Comm, R: float, pole: float, down: bool, h: float, degree: int, cell: str
+    comm: MPI.Comm,
+    R: float,
+    pole: float,
+    down: bool,
+    h: float,
+    degree: int,
+    cell: str,
+    reach: float | None = None,
 ) -> tuple:
     """Half-section of a hemisphere with its pole at ``(0, pole)`` (Gmsh).
 
     ``down``: the pole is the lowest point (the body lies above it). Tags: the arc from
     the pole to 0.4 rad :data:`CONTACT`, the flat face :data:`LOADED`, the axis
-    :data:`AXIS`. Size ``h`` within ``R/4`` of the pole.
+    :data:`AXIS`. Size ``h`` within ``reach`` (default ``R/4``) of the pole.
     """
     s = 1.0 if down else -1.0
     zc = pole + s * R
@@ -154,7 +164,7 @@ def hemisphere(
             gmsh.model.addPhysicalGroup(2, [surface], 1)
             for tag, curves in ((CONTACT, [arc1]), (LOADED, [flat]), (AXIS, [axis])):
                 gmsh.model.addPhysicalGroup(1, curves, tag)
-            _size_field(gmsh, tip, h, R / 8, 0.25 * R)
+            _size_field(gmsh, tip, h, R / 8, 0.25 * R if reach is None else reach)
             if cell == "quadrilateral":
                 gmsh.option.setNumber("Mesh.RecombineAll", 1)
                 gmsh.option.setNumber("Mesh.Algorithm", 8)
@@ -164,9 +174,9 @@ def hemisphere(
         return model_to_mesh(gmsh.model, comm, 0)
 
 
-def _body(comm, R, pole, down, h, degree, cell, material):
+def _body(comm, R, pole, down, h, degree, cell, material, reach=None):
     """Space, stiffness, axis condition and tags of one hemisphere."""
-    mesh, _, tags = hemisphere(comm, R, pole, down, h, degree, cell)
+    mesh, _, tags = hemisphere(comm, R, pole, down, h, degree, cell, reach)
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
     a, _, v = material.forms(V)
     axis = dolfinx.fem.locate_dofs_topological(V.sub(0), 1, tags.find(AXIS))
@@ -284,11 +294,14 @@ def two_spheres(
 ) -> AxiResult:
     r"""Sphere 2 pressed by :math:`F` onto sphere 1 (its flat face held, :math:`u_z = 0`).
 
+    Both are meshed with size ``h`` within :math:`\min(R_1, R_2)/4` of the contact point.
     Sphere 1 (below, radius ``R1``) is the contactor: the multiplier lives on it. The
     arguments as :func:`sphere_on_plane`; ``materials`` are sphere 1's and sphere 2's.
     """
-    V1, a1, v1, bcs1, tags1 = _body(comm, R1, 0.0, False, h, degree, cell, materials[0])
-    V2, a2, v2, bcs2, tags2 = _body(comm, R2, 0.0, True, h, degree, cell, materials[1])
+    # The fine zone of both: a quarter of the smaller radius (the geometry, not a).
+    reach = 0.25 * min(R1, R2)
+    V1, a1, v1, bcs1, tags1 = _body(comm, R1, 0.0, False, h, degree, cell, materials[0], reach)
+    V2, a2, v2, bcs2, tags2 = _body(comm, R2, 0.0, True, h, degree, cell, materials[1], reach)
     held = dolfinx.fem.locate_dofs_topological(V1.sub(1), 1, tags1.find(LOADED))
     bcs = [*bcs1, *bcs2, dolfinx.fem.dirichletbc(0.0, held, V1.sub(1))]
     zero = dolfinx.fem.Constant(V1.mesh, 0.0)
@@ -302,3 +315,77 @@ def two_spheres(
     return _solve(
         [a1, a2], [L1, L2], [pair], bcs, prefix="axihertz_spheres_", start=start, hook=hook
     )
+
+
+#: The scenes' materials and radii: a rigid plane under sphere 1; sphere 2 on sphere 1.
+SCENES = {
+    "sphere-on-plane": {"R": 1.0, "E_star": 1 / (1 - 0.3**2)},
+    "two-spheres": {"R": 1 / (1 / 1.0 + 1 / 2.0), "E_star": 1 / ((1 - 0.3**2) + (1 - 0.25**2) / 2)},
+}
+
+
+def run(
+    comm: MPI.Comm,
+    scene: str,
+    *,
+    a_over_R1: float = 0.05,
+    h: float = 0.005,
+    degree: int = 2,
+    cell: str = "triangle",
+    target: str = "plane",
+) -> dict[str, typing.Any]:
+    r"""Solve a scene with the load that gives Hertz's :math:`a = ` ``a_over_R1`` :math:`R_1`.
+
+    Returns a record for ``results/``: the exact and measured :math:`a`, :math:`p_0`, the
+    errors of :func:`hertz_measures`, the unknowns, solves and seconds.
+    """
+    R, E_star = SCENES[scene]["R"], SCENES[scene]["E_star"]
+    a = a_over_R1 * 1.0
+    F = 4 * E_star * a**3 / (3 * R)
+    kwargs = {"F": F, "h": h, "degree": degree, "cell": cell}
+    if scene == "sphere-on-plane":
+        result = sphere_on_plane(comm, target=target, **kwargs)
+    else:
+        result = two_spheres(comm, **kwargs)
+    a_exact, p0_exact = hertz_exact(F, R, E_star)
+    return {
+        "study": "axisymmetric-hertz",
+        "scene": scene,
+        "target": target if scene == "sphere-on-plane" else "elastic",
+        "cell": cell,
+        "degree": degree,
+        "h": h,
+        "a_over_R1": a_over_R1,
+        "ranks": comm.size,
+        "F": F,
+        "a_exact": a_exact,
+        "p0_exact": p0_exact,
+        **hertz_measures(result, a_exact, p0_exact),
+        "force_over_F": result.force / F,
+        "unknowns": result.unknowns,
+        "solves": result.solves,
+        "seconds": result.seconds,
+    }
+
+
+def model_error(comm: MPI.Comm, scene: str, *, cell: str = "triangle") -> dict[str, typing.Any]:
+    r"""The change of the errors of :math:`a` and :math:`p_0` when :math:`a/R_1` halves.
+
+    P2 at the same :math:`a/h = 10` (``h`` halved with :math:`a`, load divided by 8): the
+    discretization error stays about the same, the finite-body error of order
+    :math:`a/R` halves; the change bounds what the hemispheres' finite size adds.
+    """
+    big = run(comm, scene, a_over_R1=0.05, h=0.005, cell=cell)
+    small = run(comm, scene, a_over_R1=0.025, h=0.0025, cell=cell)
+    signed = {
+        k: (big[k] / big[f"{k}_exact"] - 1, small[k] / small[f"{k}_exact"] - 1) for k in ("a", "p0")
+    }
+    return {
+        "study": "axisymmetric-hertz-model-error",
+        "scene": scene,
+        "cell": cell,
+        "ranks": comm.size,
+        "relative_errors_at_5_and_2.5_percent": signed,
+        "change_a": abs(signed["a"][0] - signed["a"][1]),
+        "change_p0": abs(signed["p0"][0] - signed["p0"][1]),
+    }
