@@ -95,7 +95,8 @@ def hertz_measures(result: AxiResult, a: float, p0: float) -> dict[str, float]:
     The radius from the last two active nodes (:func:`~paper.rigid.edge_from_multiplier`,
     a square-root edge), the peak at the node on the axis, the L2 error over the contact
     disk (weight :math:`2\pi r`, trapezoidal rule on the multiplier's nodes, out to
-    :math:`2a`).
+    :math:`2a`); and the bracket of the edge: the radii of the last active and the first
+    inactive node.
     """
     r, p = result.r, result.pressure
     exact = p0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0.0, None))
@@ -106,8 +107,10 @@ def hertz_measures(result: AxiResult, a: float, p0: float) -> dict[str, float]:
         / np.trapezoid(exact[inside] ** 2 * w, w)
     )
     a_h = edge_from_multiplier(r, p)
+    last = np.flatnonzero(p > 1e-12 * np.max(p))[-1]
     return {
         "a": a_h,
+        "bracket": (float(r[last]), float(r[min(last + 1, r.size - 1)])),
         "p0": float(p[0]),
         "a_error": abs(a_h / a - 1),
         "p0_error": abs(p[0] / p0 - 1),
@@ -333,11 +336,13 @@ def run(
     degree: int = 2,
     cell: str = "triangle",
     target: str = "plane",
+    keep_pressure: bool = False,
 ) -> dict[str, typing.Any]:
     r"""Solve a scene with the load that gives Hertz's :math:`a = ` ``a_over_R1`` :math:`R_1`.
 
     Returns a record for ``results/``: the exact and measured :math:`a`, :math:`p_0`, the
-    errors of :func:`hertz_measures`, the unknowns, solves and seconds.
+    errors of :func:`hertz_measures`, the unknowns, solves and seconds; with
+    ``keep_pressure``, also ``r`` and ``pressure`` (arrays, for plots).
     """
     R, E_star = SCENES[scene]["R"], SCENES[scene]["E_star"]
     a = a_over_R1 * 1.0
@@ -348,7 +353,8 @@ def run(
     else:
         result = two_spheres(comm, **kwargs)
     a_exact, p0_exact = hertz_exact(F, R, E_star)
-    return {
+    arrays = {"r": result.r, "pressure": result.pressure} if keep_pressure else {}
+    return arrays | {
         "study": "axisymmetric-hertz",
         "scene": scene,
         "target": target if scene == "sphere-on-plane" else "elastic",
