@@ -57,7 +57,7 @@ def test_nearest_start_transmits_a_force():
     """
     result = sphere_on_plane(comm, F=F, h=0.02, degree=2, hook=first_set)
     found = result.extra["hook"]
-    assert np.min(found["radii"]) == 0.0
+    assert np.min(found["radii"]) < 1e-12  # the axis vertex (r = 0 up to round-off)
     assert found["radii"].size >= 2
     assert np.sum(found["forces"]) > 0.0
     # Equilibrium: the plane's normal is the load's: the contact force is F.
