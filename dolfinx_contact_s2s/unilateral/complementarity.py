@@ -45,6 +45,8 @@ class Complementarity:
 
     Attributes:
         scales: Per pair, :math:`c_j` (zero at the pair's inactive multipliers).
+        resultants: Per pair, the owned :math:`\\int \\mu_k w\\, ds` (:math:`w = 2\\pi r`
+            in axisymmetry, else 1): the force a unit multiplier :math:`k` transmits.
         stiffness: :math:`\bar E`, the median diagonal entry of the free stiffness.
         seconds: Wall time (s, this process) spent in :meth:`weighted_gaps`,
             :meth:`evaluate`, :meth:`update`, :meth:`released` and :meth:`first_active`:
@@ -71,6 +73,7 @@ class Complementarity:
         self.tolerance = float(tolerance)
         self.seconds = 0.0
         self.stiffness = self._stiffness_scale()
+        self.resultants: list[npt.NDArray[np.floating]] = []
         self.scales: list[PETSc.Vec] = [
             self._scale(j, self.stiffness) for j in range(len(system.pairs))
         ]
@@ -116,15 +119,29 @@ class Complementarity:
         squares = mass.getDiagonal()
         lengths = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(mu * ufl.dx))
         lengths.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        weight = 2 * np.pi * ufl.SpatialCoordinate(Q.mesh)[0] if pair.axisymmetric else 1.0
+        forces = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(mu * weight * ufl.dx))
+        forces.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        self.resultants.append(forces.array_r[: op.G.getLocalSize()].copy())
+        forces.destroy()
         P = multiplier_mass(pair)
         m = P.createVecLeft()
         P.getRowSum(m)
         if pair.axisymmetric:
-            # A P2 vertex function on the axis has a zero row sum (its r-weighted integral):
-            # its own mass, the diagonal, measures it instead.
-            diagonal = P.getDiagonal()
-            m.array[:] = np.where(m.array_r > 0, m.array_r, diagonal.array_r)
-            diagonal.destroy()
+            # In axisymmetry the row sum int mu_k 2 pi r ds of a P2 vertex on the axis is
+            # zero: its value was round-off (measured: 1.6e-11 against 2.6e-4 at the next
+            # vertex, h = 0.005), positive or negative by chance, and a positive one made
+            # c_k 1e7 times its neighbours' (3.8e14): c_k times the round-off of its
+            # weighted gap was a complementarity residual of 1e-8 that no active set
+            # lowers. The absolute row sum sum_l |P_kl| >= |int mu_k 2 pi r ds| measures the
+            # multiplier's support instead, positive with the diagonal; for multipliers
+            # without negative lobes (P1) it is the row sum.
+            indptr, _, values = P.getValuesCSR()
+            counts = np.diff(indptr)
+            sums = np.zeros(counts.size)
+            rows = np.repeat(np.arange(counts.size), counts)
+            np.add.at(sums, rows, np.abs(values))
+            m.array[:] = sums
         c = op.G.duplicate()
         n = c.getLocalSize()
         integral, square, m_loc = lengths.array_r[:n], squares.array_r[:n], m.array_r
@@ -235,14 +252,35 @@ class Complementarity:
             cg = [c.array_r * g for c, g in zip(self.scales, self.initial_gaps(load), strict=True)]
             if start == "gap":
                 return [(v < 0) & ~p for v, p in zip(cg, pinned, strict=True)]
-            # "nearest": the penetrating multipliers and those within 1e-8 h of the smallest gap.
-            local = min(
-                (float(np.min(v[~p], initial=np.inf)) for v, p in zip(cg, pinned, strict=True)),
-                default=np.inf,
-            )
-            smallest = self.comm.allreduce(local, op=MPI.MIN)
-            near = smallest + 1e-8 * self.penalty * self.stiffness
-            return [((v < 0) | (v <= near)) & ~p for v, p in zip(cg, pinned, strict=True)]
+            # "nearest": the penetrating multipliers and those within 1e-8 h of the smallest gap,
+            # then the next nearest until the set transmits a force. A P2 vertex on the axis
+            # (axisymmetry) has a zero resultant, int mu_k 2 pi r ds = 0: alone, it holds
+            # nothing, and the first solve of a body held by contact would be singular. In
+            # the plane every multiplier has a positive resultant: the set is the nearest.
+            total = self.comm.allreduce(sum(float(np.sum(np.abs(f))) for f in self.resultants))
+            chosen = [(v < 0) & ~p for v, p in zip(cg, pinned, strict=True)]
+            candidates = [~p for p in pinned]  # first the smallest of all: as before
+            while True:
+                local = min(
+                    (
+                        float(np.min(v[c], initial=np.inf))
+                        for v, c in zip(cg, candidates, strict=True)
+                    ),
+                    default=np.inf,
+                )
+                smallest = self.comm.allreduce(local, op=MPI.MIN)
+                if not np.isfinite(smallest):
+                    return chosen
+                near = smallest + 1e-8 * self.penalty * self.stiffness
+                chosen = [
+                    c | ((v <= near) & ~p) for v, p, c in zip(cg, pinned, chosen, strict=True)
+                ]
+                force = self.comm.allreduce(
+                    sum(float(np.sum(f[c])) for f, c in zip(self.resultants, chosen, strict=True))
+                )
+                if force > 1e-8 * total:
+                    return chosen
+                candidates = [~p & ~c for p, c in zip(pinned, chosen, strict=True)]
 
     def released(self, active: list[npt.NDArray[np.bool_]]) -> list[npt.NDArray[np.int64]]:
         """Per pair, the global constrained multipliers of this process not in ``active``."""

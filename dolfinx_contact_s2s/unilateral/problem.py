@@ -38,7 +38,9 @@ __all__ = ["ALGORITHMS", "DEFAULT_PENALTY", "STARTS", "UnilateralContactProblem"
 ALGORITHMS = ("active-set", "snes-vi", "penalty", "augmented-lagrangian")
 
 #: First active set of the first load step: the multipliers of the nearest points
-#: (smallest initial gap, and every penetration), every multiplier (the tied problem of
+#: (smallest initial gap, and every penetration; then the next nearest until the set
+#: transmits a force, :math:`\sum_k \int \mu_k w > 0`, which a P2 vertex on the axis of an
+#: axisymmetric model alone does not), every multiplier (the tied problem of
 #: Eq. 18, always supported when the model passed its checks), or the penetrating ones
 #: (negative weighted gap at zero displacement).
 STARTS = ("nearest", "tied", "gap")
