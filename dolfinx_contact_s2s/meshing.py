@@ -118,7 +118,8 @@ def snap_boundary(
             continue
         target = np.asarray(target, dtype=x.dtype)
         if target.shape != (dofs.size, 3):
-            bad = bad or f"project({tag}, points) returned shape {target.shape}, not ({dofs.size}, 3)"
+            shape = f"shape {target.shape}, not ({dofs.size}, 3)"
+            bad = bad or f"project({tag}, points) returned {shape}"
             continue
         move.x.array.reshape(-1, gdim)[dofs] += (target - x[dofs])[:, :gdim]
         count.x.array[dofs] += 1.0
@@ -164,9 +165,11 @@ def gmsh_projection(comm: MPI.Comm, rank: int = 0, dim: int | None = None) -> Pr
             import gmsh
 
             d = gmsh.model.getDimension() - 1 if dim is None else dim
-            entities = list(gmsh.model.getEntitiesForPhysicalGroup(d, tag)) if any(
-                g == (d, tag) for g in gmsh.model.getPhysicalGroups(d)
-            ) else []
+            entities = (
+                list(gmsh.model.getEntitiesForPhysicalGroup(d, tag))
+                if any(g == (d, tag) for g in gmsh.model.getPhysicalGroups(d))
+                else []
+            )
             if entities:
                 assert gathered is not None
                 allpoints = np.concatenate([p.reshape(-1, 3) for p in gathered])

@@ -156,7 +156,7 @@ def _scene(case: PlaneCase, comm: MPI.Comm, elements_across: int) -> tuple:
 
 
 def adaptive_run(
-    case: PlaneCase = PlaneCase(),  # noqa: B008
+    case: PlaneCase = PlaneCase(),
     *,
     tolerance: float = 0.01,
     max_steps: int = 6,
@@ -204,7 +204,7 @@ def adaptive_run(
 
 
 def uniform_run(
-    case: PlaneCase = PlaneCase(),  # noqa: B008
+    case: PlaneCase = PlaneCase(),
     n: int = 10,
     comm: MPI.Comm = MPI.COMM_WORLD,
 ) -> dict:

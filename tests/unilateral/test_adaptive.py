@@ -94,11 +94,17 @@ def test_quadrilaterals_and_bad_arguments():
         refine_contact_zone(
             build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, pressure_tolerance=2.0
         )
-    with build(CASE, prefix="adaptive_bad_active_")(
-        scene.mesh, scene.cell_tags, scene.facet_tags
-    ) as problem, pytest.raises(ValueError, match="one entry per pair"):
+    with (
+        build(CASE, prefix="adaptive_bad_active_")(
+            scene.mesh, scene.cell_tags, scene.facet_tags
+        ) as problem,
+        pytest.raises(ValueError, match="one entry per pair"),
+    ):
         problem.solve(active=[None, None])
-    with build(CASE, prefix="adaptive_bad_shape_")(
-        scene.mesh, scene.cell_tags, scene.facet_tags
-    ) as problem, pytest.raises(ValueError, match="owned dofs"):
+    with (
+        build(CASE, prefix="adaptive_bad_shape_")(
+            scene.mesh, scene.cell_tags, scene.facet_tags
+        ) as problem,
+        pytest.raises(ValueError, match="owned dofs"),
+    ):
         problem.solve(active=[np.ones(10**7, dtype=bool)])
