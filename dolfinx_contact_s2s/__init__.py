@@ -20,7 +20,13 @@ import re as _re
 from dolfinx_contact_s2s import _moved
 from dolfinx_contact_s2s.axisymmetry import check_axis_surface, check_axisymmetric_mesh
 from dolfinx_contact_s2s.elasticity import PLANES, Material, epsilon, stress_function
-from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.meshing import (
+    Projection,
+    gmsh_projection,
+    gmsh_session,
+    model_to_mesh,
+    snap_boundary,
+)
 from dolfinx_contact_s2s.obstacles import (
     AnalyticObstacle,
     RigidSurface,
@@ -76,6 +82,7 @@ __all__ = [
     "CouplingBlocks",
     "Material",
     "PressureProfile",
+    "Projection",
     "RigidSurface",
     "SubSegments",
     "check_axis_surface",
@@ -87,11 +94,13 @@ __all__ = [
     "contact_surface",
     "contact_zones",
     "epsilon",
+    "gmsh_projection",
     "gmsh_session",
     "model_to_mesh",
     "obstacle",
     "plane_obstacle",
     "pressure_profile",
     "rigid_surface",
+    "snap_boundary",
     "stress_function",
 ]

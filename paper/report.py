@@ -21,8 +21,10 @@ __all__ = ["TITLE", "demo_parser", "output_folder", "rank0_print", "write_sectio
 TITLE = "# dolfinx_contact_s2s: results"
 
 
-def write_section(path: str | Path, name: str, lines: Sequence[str]) -> None:
-    """Replace the section ``name`` of the report at ``path``, or append it.
+def write_section(
+    path: str | Path, name: str, lines: Sequence[str], *, after: str | None = None
+) -> None:
+    """Replace the section ``name`` of the report at ``path``, or add it.
 
     Call on one process only (the report is one file).
 
@@ -31,6 +33,9 @@ def write_section(path: str | Path, name: str, lines: Sequence[str]) -> None:
         name: Key of the section, e.g. ``"hertz"``; its fences are
             ``<!-- begin NAME -->`` and ``<!-- end NAME -->``.
         lines: The section's Markdown, its own headings included.
+        after: A new section goes right after this section (a subsection of it,
+            e.g. ``"tradeoff"``, the speed-accuracy section) if the report has it, else
+            at the end.
     """
     path = Path(path)
     begin, end = f"<!-- begin {name} -->", f"<!-- end {name} -->"
@@ -40,6 +45,9 @@ def write_section(path: str | Path, name: str, lines: Sequence[str]) -> None:
         head, rest = text.split(begin, 1)
         tail = rest.split(end, 1)[1]
         text = head + body + tail
+    elif after is not None and f"<!-- end {after} -->" in text:
+        head, tail = text.split(f"<!-- end {after} -->", 1)
+        text = head + f"<!-- end {after} -->\n\n" + body + tail
     else:
         text = text.rstrip("\n") + "\n\n" + body + "\n"
     path.write_text(text)

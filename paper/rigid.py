@@ -39,7 +39,14 @@ from dolfinx_contact_s2s import (
     rigid_surface,
 )
 
-__all__ = ["RigidResult", "edge_from_multiplier", "flat_punch", "hertz_on_plane", "pressure"]
+__all__ = [
+    "RigidResult",
+    "edge_from_multiplier",
+    "flat_punch",
+    "hertz_on_plane",
+    "pressure",
+    "quarter_disk",
+]
 
 #: Facet tags of the scenes.
 CONTACT, LOADED, SYMMETRY, TARGET, CLAMPED = 1, 2, 3, 4, 5
@@ -127,7 +134,7 @@ def _size_field(gmsh: typing.Any, point: int, near: float, far: float, reach: fl
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
 
 
-def _quarter_disk(comm: MPI.Comm, R: float, h: float, degree: int) -> tuple:
+def quarter_disk(comm: MPI.Comm, R: float, h: float, degree: int) -> tuple:
     """The quarter disk x >= 0, y <= R about (0, R), size h near the origin (Gmsh)."""
     with gmsh_session() as gmsh:
         gmsh.model.add("cylinder")
@@ -212,7 +219,7 @@ def hertz_on_plane(
             at its bottom).
         target_E: Young's modulus of the elastic floor.
     """
-    mesh, _, tags = _quarter_disk(comm, R, h, degree)
+    mesh, _, tags = quarter_disk(comm, R, h, degree)
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
     a_form, _, v = material.forms(V)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)

@@ -44,6 +44,7 @@ from dolfinx_contact_s2s.unilateral.adaptive import (
     AdaptiveResult,
     AdaptiveStep,
     RefinementError,
+    inside_zones,
     refine_contact_zone,
 )
 from dolfinx_contact_s2s.unilateral.history import (
@@ -73,5 +74,6 @@ __all__ = [
     "RefinementError",
     "UnilateralContactProblem",
     "Update",
+    "inside_zones",
     "refine_contact_zone",
 ]

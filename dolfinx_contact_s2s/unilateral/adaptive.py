@@ -8,9 +8,12 @@ one (:class:`~dolfinx_contact_s2s.postprocess.ContactEdge`). Its bracket is the
 contactor's facet size there, whatever the rest of the mesh. :func:`refine_contact_zone`
 solves, splits the edges of the cells within a few facet sizes of every edge whose
 bracket is too wide (:func:`dolfinx.mesh.refine`, tags carried over by
-:func:`dolfinx.mesh.transfer_meshtag`), rebuilds the user's problem on the new mesh
-through their own ``build`` callable, and solves again, until every bracket is below
-the tolerance.
+:func:`dolfinx.mesh.transfer_meshtag`), moves the new boundary nodes onto the true
+geometry (:func:`~dolfinx_contact_s2s.meshing.snap_boundary`, with the user's
+projection), rebuilds the user's problem on the new mesh through their own ``build``
+callable, and solves again from the previous contact zones (a new multiplier node starts
+active if it lies between the previous estimates of a zone's edges), until every bracket
+is below the tolerance.
 
 This module needs petsc4py and must be imported explicitly.
 """
@@ -28,10 +31,22 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.compat import blocked_sub_element, refine_marked
-from dolfinx_contact_s2s.postprocess import ContactZone, contact_zones
+from dolfinx_contact_s2s.meshing import Projection, snap_boundary
+from dolfinx_contact_s2s.postprocess import (
+    ContactZone,
+    PressureProfile,
+    contact_zones,
+    pressure_profile,
+)
 from dolfinx_contact_s2s.unilateral.problem import UnilateralContactProblem
 
-__all__ = ["AdaptiveResult", "AdaptiveStep", "RefinementError", "refine_contact_zone"]
+__all__ = [
+    "AdaptiveResult",
+    "AdaptiveStep",
+    "RefinementError",
+    "inside_zones",
+    "refine_contact_zone",
+]
 
 logger = logging.getLogger("dolfinx_contact_s2s.unilateral")
 
@@ -47,6 +62,8 @@ class AdaptiveStep:
             or the ``length`` given).
         zones: The contact zones of every pair.
         seconds: Wall time of the step (build, solve and post-processing; rank 0's).
+        solves: Linear solves of the active-set iteration of the step.
+        restarted: Whether the step started from the previous step's contact zones.
     """
 
     unknowns: int
@@ -54,6 +71,8 @@ class AdaptiveStep:
     relative: float
     zones: list[list[ContactZone]]
     seconds: float
+    solves: int = 0
+    restarted: bool = False
 
     @property
     def lengths(self) -> list[list[float]]:
@@ -98,13 +117,107 @@ def _unknowns(problem: UnilateralContactProblem) -> int:
     )
 
 
-def _zones(problem: UnilateralContactProblem, estimate: str) -> list[list[ContactZone]]:
-    return [
-        contact_zones(pair, lam, act, gap, estimate=estimate)
+def _zones(
+    problem: UnilateralContactProblem, estimate: str
+) -> tuple[list[PressureProfile], list[list[ContactZone]]]:
+    profiles = [
+        pressure_profile(pair, lam, act, gap)
         for pair, lam, act, gap in zip(
             problem.pairs, problem.multipliers, problem.active, problem.gaps, strict=True
         )
     ]
+    zones = [
+        contact_zones(pair, lam, act, gap, estimate=estimate, profile=profile)
+        for pair, lam, act, gap, profile in zip(
+            problem.pairs, problem.multipliers, problem.active, problem.gaps, profiles, strict=True
+        )
+    ]
+    return profiles, zones
+
+
+def inside_zones(
+    profile: PressureProfile, zones: Sequence[ContactZone]
+) -> Callable[[npt.NDArray[np.floating]], npt.NDArray[np.bool_]]:
+    """A marker ``f(x) -> bool`` of the points inside the ``zones`` of a previous solve.
+
+    A point ``x`` ``(3, n)`` is projected onto the nearest chord of the previous
+    contactor (the ``profile``'s nodes, chain by chain) and marked if its arclength lies
+    between the estimated edges of a zone of that chain: the first active set of
+    :meth:`UnilateralContactProblem.solve` (``active=``) on a refined mesh.
+    """
+    gdim = profile.x.shape[1]
+    starts, ends, s0, chains = [], [], [], []
+    for k in range(len(profile.closed)):
+        sel = np.flatnonzero(profile.chain == k)
+        starts.append(profile.x[sel[:-1]])
+        ends.append(profile.x[sel[1:]])
+        s0.append(profile.s[sel[:-1]])
+        chains.append(np.full(sel.size - 1, k))
+    A, B, S, C = (np.concatenate(v) for v in (starts, ends, s0, chains))
+    totals = [
+        float(profile.s[profile.chain == k].max()) if closed else 0.0
+        for k, closed in enumerate(profile.closed)
+    ]
+
+    def marker(x: npt.NDArray[np.floating]) -> npt.NDArray[np.bool_]:
+        points = np.asarray(x)[:gdim].T
+        out = np.zeros(points.shape[0], dtype=bool)
+        if A.shape[0] == 0 or points.shape[0] == 0:
+            return out
+        d = B - A
+        length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+        t = np.clip(np.einsum("pij,ij->pi", points[:, None, :] - A[None], d) / length2, 0, 1)
+        foot = A[None] + t[..., None] * d[None]
+        nearest = np.argmin(np.linalg.norm(points[:, None, :] - foot, axis=2), axis=1)
+        rows = np.arange(points.shape[0])
+        s = S[nearest] + t[rows, nearest] * np.sqrt(length2[nearest])
+        chain = C[nearest]
+        for z in zones:
+            on = chain == z.chain
+            for shift in (0.0, totals[z.chain]) if totals[z.chain] else (0.0,):
+                out |= on & (s + shift >= z.start.estimate) & (s + shift <= z.end.estimate)
+        return out
+
+    return marker
+
+
+def _pressure_balls(
+    profile: PressureProfile, zones: Sequence[ContactZone], tolerance: float, layers: float
+) -> tuple[float, list[npt.NDArray[np.floating]]]:
+    r"""The largest pressure indicator of the zones and the balls around the nodes above it.
+
+    The indicator of an active node whose neighbours are active is the distance of its
+    :math:`\lambda` from the line through its neighbours' (a second difference along the
+    arclength), relative to the zone's largest :math:`\lambda`: it measures the
+    interpolation error of the pressure and its oscillations (e.g. at the end of a
+    contactor). Nodes within a tenth of the zone's length of a bracketed edge are left to
+    the edge's own criterion: there the pressure falls like a square root, whose second
+    difference shrinks only like the square root of the spacing.
+    """
+    worst, balls = 0.0, []
+    for z in zones:
+        sel = np.flatnonzero(
+            (profile.chain == z.chain)
+            & (profile.s >= z.start.inside - 1e-14)
+            & (profile.s <= z.end.inside + 1e-14)
+        )
+        if sel.size < 3:
+            continue
+        s, p, x = profile.s[sel], profile.pressure[sel], profile.x[sel]
+        top = max(float(np.max(np.abs(p))), 1e-300)
+        left, right = s[1:-1] - s[:-2], s[2:] - s[1:-1]
+        line = (p[:-2] * right + p[2:] * left) / np.maximum(left + right, 1e-300)
+        eta = np.abs(p[1:-1] - line) / top
+        layer = 0.1 * (z.end.inside - z.start.inside)
+        if z.start.method != "end":
+            eta[s[1:-1] < z.start.inside + layer] = 0.0
+        if z.end.method != "end":
+            eta[s[1:-1] > z.end.inside - layer] = 0.0
+        worst = max(worst, float(np.max(eta)))
+        for k in np.flatnonzero(eta > tolerance):
+            radius = layers * max(left[k], right[k])
+            balls += [np.append(x[k + m], radius) for m in (0, 1, 2)]
+    return worst, balls
 
 
 def _mark(mesh: dolfinx.mesh.Mesh, balls: npt.NDArray[np.floating]) -> npt.NDArray[np.int32]:
@@ -133,6 +246,9 @@ def refine_contact_zone(
     layers: float = 2.0,
     estimate: str = "gap",
     load_factors: Sequence[float] = (1.0,),
+    snap: Projection | Sequence[Projection | None] | None = None,
+    restart: bool = True,
+    pressure_tolerance: float | None = None,
 ) -> AdaptiveResult:
     r"""Solve, refine around the contact edges and solve again, until they are resolved.
 
@@ -145,9 +261,12 @@ def refine_contact_zone(
     node) is at most ``tolerance`` times the zone's length (or ``length``). Around every
     other edge, the cells of every mesh whose midpoint lies within ``layers`` brackets
     of its two nodes have all their edges split, and the tags are carried to the new
-    mesh. Nodes added on a curved boundary lie on the chords of the old facets: a
-    ``build`` that knows the exact geometry may move them onto it before making its
-    surfaces.
+    mesh. Nodes added on a curved boundary lie on the chords of the old facets: ``snap``
+    moves them onto the true geometry (:func:`~dolfinx_contact_s2s.meshing.snap_boundary`;
+    :func:`~dolfinx_contact_s2s.meshing.gmsh_projection` for a live Gmsh model) before
+    ``build`` sees the mesh; without it the refinement converges to the polygon's
+    answer. Every solve after the first starts from the previous contact zones
+    (:func:`inside_zones`), unless ``restart`` is False.
 
     Args:
         build: Makes the problem of a mesh: forms, Dirichlet conditions, contact
@@ -162,6 +281,15 @@ def refine_contact_zone(
         estimate: The edge estimate of the zones, one of
             :data:`~dolfinx_contact_s2s.postprocess.ESTIMATES`.
         load_factors: Given to every ``solve``.
+        snap: The :data:`~dolfinx_contact_s2s.meshing.Projection` of the facet tags of
+            the mesh (or one per mesh, ``None`` for a mesh to leave alone), applied to
+            every refined mesh.
+        restart: Start every solve after the first from the previous step's contact
+            zones (else from the problem's ``start``).
+        pressure_tolerance: Also refine inside the zones, around every active node
+            whose :math:`\lambda` lies farther than this (relative to the zone's largest
+            :math:`\lambda`) from the line through its two neighbours', until none
+            does (``None``: the edges only).
 
     Returns:
         The last problem (solved; the caller destroys it), its meshes and tags, and the
@@ -188,6 +316,11 @@ def refine_contact_zone(
         raise ValueError(f"length must be positive and finite, not {length!r}")
     if not layers > 0.0:
         raise ValueError(f"layers must be positive, not {layers!r}")
+    if pressure_tolerance is not None and not (0.0 < pressure_tolerance < 1.0):
+        raise ValueError(f"pressure_tolerance must lie in (0, 1), not {pressure_tolerance!r}")
+    snaps = list(snap) if isinstance(snap, Sequence) else [snap] * len(meshes)
+    if len(snaps) != len(meshes) or not all(p is None or callable(p) for p in snaps):
+        raise ValueError("snap must be a projection, or one projection (or None) per mesh")
     for m in meshes:
         simplex = m.topology.cell_name() in ("interval", "triangle", "tetrahedron")
         degree = blocked_sub_element(m.ufl_domain().ufl_coordinate_element()).degree
@@ -200,6 +333,7 @@ def refine_contact_zone(
 
     history: list[AdaptiveStep] = []
     problem: UnilateralContactProblem | None = None
+    first: list | None = None
     for step in range(int(max_steps) + 1):
         begin = time.perf_counter()
         if problem is not None:
@@ -208,8 +342,8 @@ def refine_contact_zone(
         problem = build(*args)
         if not isinstance(problem, UnilateralContactProblem):
             raise ValueError("build must return a UnilateralContactProblem")
-        problem.solve(load_factors)
-        zones = _zones(problem, estimate)
+        problem.solve(load_factors, active=first)
+        profiles, zones = _zones(problem, estimate)
         if not any(zones):
             raise ValueError("the solve has no contact zone with an edge to refine")
         wide: list[npt.NDArray[np.floating]] = []
@@ -222,15 +356,27 @@ def refine_contact_zone(
                 if edge.bracket > tolerance * reference:
                     radius = layers * edge.bracket
                     wide += [np.append(p, radius) for p in edge.bracket_points]
+        indicator = 0.0
+        if pressure_tolerance is not None:
+            for profile, pair_zones in zip(profiles, zones, strict=True):
+                eta, balls = _pressure_balls(profile, pair_zones, pressure_tolerance, layers)
+                indicator, wide = max(indicator, eta), wide + balls
         seconds = problem.comm.bcast(time.perf_counter() - begin, root=0)
-        history.append(AdaptiveStep(_unknowns(problem), widest, relative, zones, seconds))
+        solves = problem.history.iterations
+        history.append(
+            AdaptiveStep(
+                _unknowns(problem), widest, relative, zones, seconds, solves, first is not None
+            )
+        )
         logger.info(
             "contact edge, step %d: %d unknowns, widest bracket %.3g (%.3g of the reference), "
-            "%.2f s",
+            "pressure indicator %.3g, %d solves, %.2f s",
             step,
             history[-1].unknowns,
             widest,
             relative,
+            indicator,
+            solves,
             seconds,
         )
         if not wide:
@@ -241,8 +387,14 @@ def refine_contact_zone(
         for k, m in enumerate(meshes):
             edges = _mark(m, balls)
             meshes[k], (ctags[k], ftags[k]) = refine_marked(m, edges, (ctags[k], ftags[k]))
+            if snaps[k] is not None:
+                snap_boundary(meshes[k], ftags[k], snaps[k])
+        if restart:
+            first = [inside_zones(p, z) for p, z in zip(profiles, zones, strict=True)]
     raise RefinementError(
-        f"the contact edges were not resolved to {tolerance:g} in {max_steps} refinements: "
+        f"the contact edges were not resolved to {tolerance:g} in {max_steps} refinements"
+        + ("" if pressure_tolerance is None else f" (pressure to {pressure_tolerance:g})")
+        + ": "
         f"the widest bracket is {history[-1].bracket:.3g}, {history[-1].relative:.3g} of its "
         f"reference length (steps: "
         + ", ".join(f"{s.relative:.3g}" for s in history)

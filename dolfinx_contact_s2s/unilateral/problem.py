@@ -183,26 +183,37 @@ class UnilateralContactProblem(ContactProblemBase):
     # --- solve ------------------------------------------------------------------------
 
     def solve(
-        self, load_factors: Sequence[float] = (1.0,)
+        self,
+        load_factors: Sequence[float] = (1.0,),
+        *,
+        active: Sequence[Callable | npt.NDArray[np.bool_] | None] | None = None,
     ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         """Assemble, then solve the contact problem at every load factor in turn.
 
         Args:
             load_factors: Factors on the loads and Dirichlet values, solved in order,
                 each starting from the previous one's active set.
+            active: The first active set, one entry per pair, instead of ``start``
+                (e.g. a previous solution's, on a refined mesh): a callable
+                ``marker(x) -> bool`` of the multiplier nodes' coordinates ``x``
+                ``(3, n)`` (as :func:`dolfinx.fem.locate_dofs_geometrical`), a boolean
+                array over the pair's owned multiplier dofs, or ``None`` (``start``).
+                Only a first guess: the iteration and its checks are unchanged.
 
         Returns:
             The displacement of every space and the contact pressure of every pair, at
             the last load factor.
 
         Raises:
-            ValueError: On every rank, if the model is singular (see :meth:`assemble`).
+            ValueError: On every rank, if the model is singular (see :meth:`assemble`), or
+                ``active`` has not one entry per pair of the right size.
             RuntimeError: On every rank, if a linear solve fails.
             ContactConvergenceError: On every rank, if a load step does not converge.
         """
         loads = [float(t) for t in load_factors]
         if not loads or not all(np.isfinite(loads)):
             raise ValueError("give at least one finite load factor")
+        given = self._given_active(active)
         self.assemble()
         assert self._complementarity is not None
         comp = self._complementarity
@@ -228,11 +239,43 @@ class UnilateralContactProblem(ContactProblemBase):
             begin = time.perf_counter()
             if active is None:
                 active = comp.first_active(t, self.start)
+                if given is not None:
+                    active = [
+                        a if g is None else g & ~comp.pinned(j)
+                        for j, (a, g) in enumerate(zip(active, given, strict=True))
+                    ]
             active = step_solver(run, step, active)
             step.seconds = time.perf_counter() - begin
         assert active is not None
         self._finish(comp, active)
         return self.u, self.multipliers
+
+    def _given_active(
+        self, active: Sequence[Callable | npt.NDArray[np.bool_] | None] | None
+    ) -> list[npt.NDArray[np.bool_] | None] | None:
+        """The owned first active set of every pair from ``solve(active=...)``."""
+        if active is None:
+            return None
+        out: list[npt.NDArray[np.bool_] | None] = []
+        problem = ""
+        if len(active) != len(self.pairs):
+            problem = f"active needs one entry per pair ({len(self.pairs)}), not {len(active)}"
+        for pair, given in zip(self.pairs, active, strict=False):
+            n = pair.Q.dofmap.index_map.size_local * pair.Q.dofmap.index_map_bs
+            if given is None:
+                out.append(None)
+                continue
+            if callable(given):
+                x = pair.Q.tabulate_dof_coordinates()[:n]
+                given = given(x.T.copy())
+            mask = np.asarray(given)
+            if mask.shape != (n,) and not problem:
+                problem = f"an active set has shape {mask.shape}, not ({n},) (owned dofs)"
+            out.append(mask.astype(bool) if mask.shape == (n,) else None)
+        message = [m for m in self.comm.allgather(problem) if m]
+        if message:
+            raise ValueError(message[0])
+        return out
 
     def _finish(self, comp: Complementarity, active: list[npt.NDArray[np.bool_]]) -> None:
         for f, a in zip(self.active, active, strict=True):

@@ -7,7 +7,8 @@ meshes them: about 10 P1 triangles across the contact, no node at the exact edge
 :math:`x = \pm a`. :func:`build` is the user's callable of
 :func:`~dolfinx_contact_s2s.unilateral.adaptive.refine_contact_zone`: the forms,
 supports and pair of :func:`~paper.hertz.study.hertz_model`, on any refinement of the
-scene's mesh, with the nodes of the arcs moved onto the circles.
+scene's mesh; :func:`arcs` is the projection that moves the nodes a refinement adds
+on the arcs onto the circles (``refine_contact_zone(..., snap=arcs(case))``).
 """
 
 from __future__ import annotations
@@ -24,14 +25,14 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface, epsilon
-from dolfinx_contact_s2s.compat import geometry_dofmap
+from dolfinx_contact_s2s.meshing import Projection, snap_boundary
 from dolfinx_contact_s2s.postprocess import contact_zones
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 from dolfinx_contact_s2s.unilateral.adaptive import refine_contact_zone
 from paper.hertz.scene import TAGS, hertz
 from paper.hertz.study import HertzCase
 
-__all__ = ["CASE", "adaptive_run", "build", "snap_to_arcs", "uniform_run"]
+__all__ = ["CASE", "adaptive_run", "arcs", "build", "snap_to_arcs", "uniform_run"]
 
 #: The scene of issue 9: two cylinders, unequal materials, 10 elements across, no edge nodes.
 #: Half-width a = R1 / 40: the model's own error (finite bodies, measured by uniform
@@ -47,48 +48,34 @@ CASE = HertzCase(
 )
 
 
-def snap_to_arcs(mesh: dolfinx.mesh.Mesh, facet_tags, case: HertzCase) -> None:
-    """Move the nodes of the tagged arcs onto their circles (the nodes a refinement added).
+def arcs(case: HertzCase) -> Projection:
+    """The projection of the scene's tagged arcs onto their circles (:func:`snap_boundary`)."""
+    circles = {
+        TAGS["contactor"]: ((0.0, case.R1), case.R1),
+        TAGS["upper_rest"]: ((0.0, case.R1), case.R1),
+        TAGS["target"]: ((0.0, -case.R2), case.R2),
+        TAGS["lower_top_rest"]: ((0.0, -case.R2), case.R2),
+    }
 
-    Collective: a node is moved on every process that holds it, also where the tagged
-    facet is another process's (the moves are summed over processes in a P1 field).
-    """
-    fdim = mesh.topology.dim - 1
-    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
-    move = dolfinx.fem.Function(V)
-    count = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("Lagrange", 1)))
-    x = V.tabulate_dof_coordinates()[:, :2]
-    arcs = (
-        ((TAGS["contactor"], TAGS["upper_rest"]), (0.0, case.R1), case.R1),
-        ((TAGS["target"], TAGS["lower_top_rest"]), (0.0, -case.R2), case.R2),
-    )
-    for tags, centre, radius in arcs:
-        facets = np.concatenate([facet_tags.find(t) for t in tags]).astype(np.int32)
-        dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
-        r = x[dofs] - centre
-        target = centre + radius * r / np.linalg.norm(r, axis=1)[:, None]
-        move.x.array.reshape(-1, 2)[dofs] = target - x[dofs]
-        count.x.array[dofs] = 1.0
-    for f in (move, count):
-        f.x.scatter_reverse(dolfinx.la.InsertMode.add)
-    n = count.x.array[: count.function_space.dofmap.index_map.size_local]
-    owned = move.x.array.reshape(-1, 2)[: n.size]
-    owned[n > 0] /= n[n > 0, None]
-    move.x.scatter_forward()
-    # Linear geometry: the P1 dofs of a cell and its geometry nodes are the same points.
-    cells = V.dofmap.list
-    nodes = geometry_dofmap(mesh)[: cells.shape[0]]
-    unique, first = np.unique(nodes.reshape(-1), return_index=True)
-    mesh.geometry.x[unique, :2] += move.x.array.reshape(-1, 2)[cells.reshape(-1)[first]]
+    def project(tag: int, points: np.ndarray) -> np.ndarray | None:
+        if tag not in circles or math.isinf(circles[tag][1]):
+            return None
+        centre, radius = np.array([*circles[tag][0], 0.0]), circles[tag][1]
+        r = points - centre
+        return centre + radius * r / np.linalg.norm(r, axis=1)[:, None]
+
+    return project
+
+
+def snap_to_arcs(mesh: dolfinx.mesh.Mesh, facet_tags, case: HertzCase) -> None:
+    """Move the nodes of the tagged arcs onto their circles (the nodes a refinement added)."""
+    snap_boundary(mesh, facet_tags, arcs(case))
 
 
 def build(case: HertzCase = CASE, prefix: str = "hertz_adaptive_") -> Callable:
     """The user's ``build(mesh, cell_tags, facet_tags)`` of the Hertz scene of ``case``."""
 
     def make(mesh, cell_tags, facet_tags) -> UnilateralContactProblem:
-        if not math.isinf(case.R2):
-            mesh.topology.create_connectivity(mesh.topology.dim - 1, mesh.topology.dim)
-            snap_to_arcs(mesh, facet_tags, case)
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
         Q0 = dolfinx.fem.functionspace(mesh, ("Discontinuous Lagrange", 0))
         mu, lmbda = dolfinx.fem.Function(Q0), dolfinx.fem.Function(Q0)
@@ -135,7 +122,12 @@ def _half_width(zones) -> float:
 
 
 def adaptive_run(
-    case: HertzCase = CASE, *, tolerance: float = 0.01, max_steps: int = 6, comm=MPI.COMM_WORLD
+    case: HertzCase = CASE,
+    *,
+    tolerance: float = 0.01,
+    max_steps: int = 6,
+    restart: bool = True,
+    comm=MPI.COMM_WORLD,
 ) -> dict:
     """Refine the edges of ``case``'s scene until their bracket is ``tolerance`` of ``a``."""
     begin = time.perf_counter()
@@ -155,6 +147,8 @@ def adaptive_run(
         tolerance=tolerance,
         max_steps=max_steps,
         length=case.a,
+        snap=arcs(case),
+        restart=restart,
     )
     result.problem.destroy()
     a = case.exact.a
@@ -169,6 +163,8 @@ def adaptive_run(
                 "a": est,
                 "a_error": est / a - 1.0,
                 "seconds": s.seconds,
+                "solves": s.solves,
+                "restarted": s.restarted,
             }
         )
     return {
@@ -179,6 +175,7 @@ def adaptive_run(
         "a_error": steps[-1]["a_error"],
         "bracket_over_a": steps[-1]["bracket_over_a"],
         "seconds": time.perf_counter() - begin,
+        "solves": sum(s["solves"] for s in steps),
         "ranks": comm.size,
     }
 

@@ -124,3 +124,18 @@ def test_flat_punch():
     }
     if comm.rank == 0:
         merge_rank_records(RESULTS.with_name("rigid_punch.json"), [record], comm.size)
+
+
+def test_hertz_plane_p1_adaptive_edge():
+    """P1 from 10 elements across, edge and pressure refined: Hertz's a, p0 and L2(p).
+
+    a/R = 2.5%: halving it changes a by 0.04% and p0 by 0.4% (measured, README).
+    """
+    from paper.hertz.plane import PlaneCase, adaptive_run
+
+    run = adaptive_run(PlaneCase(a_over_R=0.025), pressure_tolerance=0.01, max_steps=8, comm=comm)
+    assert run["steps"][0]["bracket_over_a"] > 0.1  # the start: 10 elements across
+    assert run["bracket_over_a"] <= 0.01
+    assert abs(run["a_error"]) < 0.01
+    assert abs(run["p0_error"]) < 0.02
+    assert run["l2_error"] < 0.05

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from dolfinx_contact_s2s.unilateral import RefinementError, refine_contact_zone
-from paper.hertz.adaptive import CASE, build
+from paper.hertz.adaptive import CASE, arcs, build
 from paper.hertz.scene import hertz
 
 
@@ -32,11 +32,20 @@ def test_edge_to_one_percent_of_a():
     scene = _scene()
     a = CASE.exact.a
     result = refine_contact_zone(
-        build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, tolerance=0.01, length=a
+        build(CASE),
+        scene.mesh,
+        scene.cell_tags,
+        scene.facet_tags,
+        tolerance=0.01,
+        length=a,
+        snap=arcs(CASE),
     )
     with result.problem:
         history = result.history
         assert len(history) <= 6  # within 5 refinements
+        # Every step after the first restarts from the previous zones: fewer solves.
+        assert not history[0].restarted and all(s.restarted for s in history[1:])
+        assert max(s.solves for s in history[1:]) < history[0].solves
         assert history[0].bracket > 0.1 * a  # 10 elements across: a bracket of 0.2 a
         (zone,) = history[-1].zones[0]
         for edge in (zone.start, zone.end):
@@ -79,3 +88,23 @@ def test_quadrilaterals_and_bad_arguments():
             refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, **bad)
     with pytest.raises(ValueError, match="as many"):
         refine_contact_zone(build(CASE), [scene.mesh], [scene.cell_tags], [])
+    with pytest.raises(ValueError, match="snap"):
+        refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, snap=1)
+    with pytest.raises(ValueError, match="pressure_tolerance"):
+        refine_contact_zone(
+            build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, pressure_tolerance=2.0
+        )
+    with (
+        build(CASE, prefix="adaptive_bad_active_")(
+            scene.mesh, scene.cell_tags, scene.facet_tags
+        ) as problem,
+        pytest.raises(ValueError, match="one entry per pair"),
+    ):
+        problem.solve(active=[None, None])
+    with (
+        build(CASE, prefix="adaptive_bad_shape_")(
+            scene.mesh, scene.cell_tags, scene.facet_tags
+        ) as problem,
+        pytest.raises(ValueError, match="owned dofs"),
+    ):
+        problem.solve(active=[np.ones(10**7, dtype=bool)])
