@@ -54,6 +54,8 @@ class PlaneCase:
     nu: float = 0.3
     target: str = "plane"
     elements_across: int = 10
+    #: Displacement degree (the geometry stays linear: DOLFINx refines only that).
+    degree: int = 1
 
     @property
     def E_star(self) -> float:
@@ -93,7 +95,7 @@ def build(case: PlaneCase, prefix: str = "hertz_plane_") -> Callable:
     """The user's ``build(mesh, cell_tags, facet_tags)`` of the scene."""
 
     def make(mesh, cell_tags, facet_tags) -> UnilateralContactProblem:
-        V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
+        V = dolfinx.fem.functionspace(mesh, ("Lagrange", case.degree, (2,)))
         a_form, _, v = Material(case.E, case.nu).forms(V)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
         traction = dolfinx.fem.Constant(mesh, np.array([0.0, -case.F / (2 * case.R)]))

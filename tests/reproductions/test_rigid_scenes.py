@@ -18,42 +18,39 @@ import numpy as np
 import pytest
 
 from paper.records import merge_rank_records
-from paper.rigid import edge_from_multiplier, flat_punch, hertz_on_plane
+from paper.rigid import flat_punch, hertz_on_plane
 
 comm = MPI.COMM_WORLD
 E, NU, R = 1.0, 0.3, 1.0
 E_STAR = E / (1 - NU**2)
 A = 0.05  # the Hertz half-width the load is chosen for (a/R = 5%)
 F = A**2 * math.pi * E_STAR / (4 * R)  # a = sqrt(4 F R / (pi E*))
-P0 = 2 * F / (math.pi * A)
+H = A / 3.65  # the mesh size near the contact: not a divisor of a (the edge inside an element)
 RESULTS = Path(__file__).resolve().parents[2] / "results" / "rigid.json"
-
-
-def hertz_errors(result):
-    """Relative errors of a (square-root edge, local), p0 and the L2 pressure."""
-    x, p = result.x, result.pressure
-    exact = P0 * np.sqrt(np.clip(1 - (x / A) ** 2, 0.0, None))
-    # L2 on the contactor by the trapezoidal rule on the multiplier's nodes (spacing h/2).
-    l2 = math.sqrt(np.trapezoid((p - exact) ** 2, x) / np.trapezoid(exact**2, x))
-    a = edge_from_multiplier(x, p)
-    return abs(a / A - 1), abs(p[0] / P0 - 1), l2
 
 
 @pytest.fixture(scope="module")
 def hertz_rigid():
-    return hertz_on_plane(comm, F=F, R=R, h=0.01, degree=2, target="rigid")
+    return hertz_on_plane(comm, F=F, R=R, h=H, degree=2, target="rigid")
 
 
-@pytest.mark.parametrize("target", ["rigid", "plane"])
-def test_hertz_cylinder_on_rigid_plane(target, hertz_rigid):
-    result = hertz_rigid if target == "rigid" else hertz_on_plane(comm, F=F, target=target)
-    a_err, p0_err, l2_err = hertz_errors(result)
-    assert a_err < 0.01
-    assert p0_err < 0.02
-    assert l2_err < 0.05
-    if target == "plane":
-        # The plane's normal is the load's direction: the contact force is the load.
-        assert result.force == pytest.approx(F / 2, rel=1e-10)
+def test_hertz_cylinder_on_rigid_plane_p2():
+    """P2 on a meshed rigid floor, from 10 elements across, edge and pressure refined.
+
+    The start mesh is sized from the element count across the design width (no node at
+    +-a); the geometry is linear (DOLFINx refines only that) and the refined arc nodes are
+    moved onto the circle. Without the pressure refinement the chords of the start mesh
+    leave p0 20% off (measured); the tolerances are the issue's.
+    """
+    from paper.hertz.plane import PlaneCase, adaptive_run
+
+    case = PlaneCase(a_over_R=0.025, degree=2, target="rigid")
+    run = adaptive_run(case, pressure_tolerance=0.03, max_steps=8, comm=comm)
+    assert run["steps"][0]["bracket_over_a"] > 0.05
+    assert run["bracket_over_a"] <= 0.01
+    assert abs(run["a_error"]) < 0.01
+    assert abs(run["p0_error"]) < 0.02
+    assert run["l2_error"] < 0.05
 
 
 def test_stiff_elastic_floor_agrees_with_rigid(hertz_rigid):
@@ -65,13 +62,12 @@ def test_stiff_elastic_floor_agrees_with_rigid(hertz_rigid):
     hiding an error of the discretization (1e-2).
     """
     ratio = 1e6
-    stiff = hertz_on_plane(comm, F=F, target="elastic", target_E=ratio * E)
+    stiff = hertz_on_plane(comm, F=F, R=R, h=H, target="elastic", target_E=ratio * E)
     rigid = hertz_rigid
     np.testing.assert_allclose(stiff.x, rigid.x, rtol=0, atol=1e-14)
     difference = np.max(np.abs(stiff.pressure - rigid.pressure)) / np.max(rigid.pressure)
     assert difference < 100 / ratio
     assert rigid.unknowns < stiff.unknowns
-    a_err, p0_err, l2_err = hertz_errors(rigid)
     record = {
         "study": "rigid-hertz",
         "ranks": comm.size,
@@ -79,7 +75,6 @@ def test_stiff_elastic_floor_agrees_with_rigid(hertz_rigid):
         "E2_over_E1": ratio,
         "unknowns": {"rigid": rigid.unknowns, "elastic": stiff.unknowns},
         "seconds": {"rigid": rigid.seconds, "elastic": stiff.seconds},
-        "errors_rigid": {"a": a_err, "p0": p0_err, "L2": l2_err},
     }
     if comm.rank == 0:
         merge_rank_records(RESULTS.with_name("rigid_hertz.json"), [record], comm.size)
