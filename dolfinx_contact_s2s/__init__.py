@@ -22,6 +22,7 @@ from dolfinx_contact_s2s.axisymmetry import check_axis_surface, check_axisymmetr
 from dolfinx_contact_s2s.elasticity import PLANES, Material, epsilon, stress_function
 from dolfinx_contact_s2s.meshing import (
     Projection,
+    curved_mesh,
     gmsh_projection,
     gmsh_session,
     model_to_mesh,
@@ -93,6 +94,7 @@ __all__ = [
     "contact_pairs",
     "contact_surface",
     "contact_zones",
+    "curved_mesh",
     "epsilon",
     "gmsh_projection",
     "gmsh_session",

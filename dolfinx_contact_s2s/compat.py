@@ -13,6 +13,7 @@ import numpy.typing as npt
 __all__ = [
     "DOLFINX_VERSION",
     "blocked_sub_element",
+    "create_mesh_in_place",
     "geometry_dofmap",
     "gmsh_model_to_mesh",
     "refine_marked",
@@ -151,3 +152,37 @@ def refine_marked(
         facet = parent_facet if tag.dim == tdim - 1 else None
         out.append(dolfinx.mesh.transfer_meshtag(tag, new, parent_cell, facet))
     return new, out
+
+
+def _stay(comm: typing.Any, nparts: int, cell_types: typing.Any, cells: typing.Any) -> typing.Any:
+    """Cell partitioner that keeps every cell on the process that gives it."""
+    count = np.asarray(cells[0]).size // dolfinx.cpp.mesh.cell_num_vertices(cell_types[0])
+    adj = dolfinx.graph.adjacencylist(np.full(count, comm.rank, dtype=np.int32))
+    return getattr(adj, "_cpp_object", adj)  # a Python wrapper from DOLFINx 0.10
+
+
+def create_mesh_in_place(
+    comm: typing.Any, cells: npt.NDArray[np.int64], x: npt.NDArray[np.floating], domain: typing.Any
+) -> tuple[typing.Any, npt.NDArray[np.int64]]:
+    """:func:`dolfinx.mesh.create_mesh` with every cell kept on the process that gives it.
+
+    Args:
+        comm: Communicator.
+        cells: Global node indices of this process's cells (DOLFINx's node order).
+        x: Coordinates ``(n, gdim)`` of the nodes this process numbers (consecutive
+            global indices, process by process).
+        domain: The :class:`ufl.Mesh` of the coordinate element.
+
+    Returns:
+        The mesh, and for each of its cells the row of ``cells`` it was made from
+        (DOLFINx reorders the cells of a process).
+    """
+    if DOLFINX_VERSION >= (0, 10):
+        mesh = dolfinx.mesh.create_mesh(comm, cells, domain, x, _stay)
+    else:
+        mesh = dolfinx.mesh.create_mesh(comm, cells, x, domain, _stay)
+    original = mesh.topology.original_cell_index
+    original = np.asarray(original[0] if isinstance(original, list) else original, np.int64)
+    offset = comm.exscan(cells.shape[0]) if comm.size > 1 else 0
+    num = mesh.topology.index_map(mesh.topology.dim).size_local
+    return mesh, original[:num] - (offset or 0)

@@ -12,6 +12,10 @@ the old facets: on a curved contact surface it converges to the polygon's answer
 :func:`snap_boundary` moves the nodes of tagged facets onto the true geometry with a
 projection the user gives, :func:`gmsh_projection` is that projection for a live Gmsh
 model (``gmsh.model.getClosestPoint`` on the entities of each physical group).
+DOLFINx refines only linear geometry, whose chords misplace a curved contact surface by
+:math:`h^2/(8R)` between the nodes: quadratic displacements see those kinks (a P2
+multiplier's peak off by several percent), so :func:`curved_mesh` lifts a refined mesh to
+a quadratic geometry with its midside nodes on the true geometry.
 """
 
 from __future__ import annotations
@@ -22,13 +26,27 @@ from collections.abc import Iterator
 
 from mpi4py import MPI
 
+import basix.ufl
 import dolfinx
 import numpy as np
 import numpy.typing as npt
+import ufl
 
-from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap, gmsh_model_to_mesh
+from dolfinx_contact_s2s.compat import (
+    blocked_sub_element,
+    create_mesh_in_place,
+    geometry_dofmap,
+    gmsh_model_to_mesh,
+)
 
-__all__ = ["Projection", "gmsh_projection", "gmsh_session", "model_to_mesh", "snap_boundary"]
+__all__ = [
+    "Projection",
+    "curved_mesh",
+    "gmsh_projection",
+    "gmsh_session",
+    "model_to_mesh",
+    "snap_boundary",
+]
 
 #: ``project(tag, points) -> points``: the points ``(n, 3)`` of facets tagged ``tag`` moved
 #: onto the true geometry, or ``None`` to leave that tag's nodes where they are. Called on
@@ -109,9 +127,8 @@ def snap_boundary(
     move = dolfinx.fem.Function(V)
     count = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("Lagrange", 1)))
     x = V.tabulate_dof_coordinates()
-    tags = sorted({int(t) for part in comm.allgather(np.unique(facet_tags.values)) for t in part})
     bad = ""
-    for tag in tags:
+    for tag in _tag_values(comm, facet_tags):
         dofs = dolfinx.fem.locate_dofs_topological(V, fdim, facet_tags.find(tag))
         target = project(tag, x[dofs].copy())
         if target is None:
@@ -140,6 +157,110 @@ def snap_boundary(
     unique, first = np.unique(nodes.reshape(-1), return_index=True)
     mesh.geometry.x[unique, :gdim] += move.x.array.reshape(-1, gdim)[cells.reshape(-1)[first]]
     return comm.allreduce(moved)
+
+
+def _tag_values(comm: MPI.Comm, tags: dolfinx.mesh.MeshTags) -> list[int]:
+    """The tag values of every process, sorted (a projection is called for all, in order)."""
+    return sorted({int(t) for part in comm.allgather(np.unique(tags.values)) for t in part})
+
+
+def curved_mesh(
+    mesh: dolfinx.mesh.Mesh,
+    cell_tags: dolfinx.mesh.MeshTags,
+    facet_tags: dolfinx.mesh.MeshTags,
+    project: Projection | None = None,
+) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
+    """The mesh with a quadratic geometry, its midside nodes on the true geometry (collective).
+
+    The nodes of the new geometry are the dofs of a quadratic Lagrange space on ``mesh``;
+    the midside nodes of the facets tagged ``tag`` go to ``project(tag, x)``, the others
+    stay on the straight edges. Every cell stays on its process, and the tags are
+    carried over (a facet by its cell and its local index). Use it on a refined, snapped
+    mesh (:func:`snap_boundary`) before making quadratic spaces on a curved contact
+    surface; :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` does so with
+    ``geometry_degree=2``.
+
+    Args:
+        mesh: A mesh of triangles with a linear coordinate element (what
+            :func:`dolfinx.mesh.refine` makes). The new mesh has no ghost cells.
+        cell_tags: Its cell tags.
+        facet_tags: Its facet tags.
+        project: The :data:`Projection` of the facet tags (``None``: straight edges).
+
+    Returns:
+        The new mesh, its cell tags and its facet tags.
+
+    Raises:
+        NotImplementedError: On every process, for another mesh.
+        ValueError: On every process, if ``project`` returns the wrong shape.
+    """
+    comm, tdim, gdim = mesh.comm, mesh.topology.dim, mesh.geometry.dim
+    fdim, num_cells = tdim - 1, mesh.topology.index_map(mesh.topology.dim).size_local
+    degree = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element()).degree
+    if mesh.topology.cell_name() != "triangle" or degree != 1:
+        raise NotImplementedError(
+            f"curved_mesh lifts triangle meshes of linear geometry, not a "
+            f"{mesh.topology.cell_name()} mesh of geometry degree {degree}"
+        )
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2, (gdim,)))
+    x = V.tabulate_dof_coordinates()
+    for dim in (0, fdim):
+        mesh.topology.create_connectivity(dim, tdim)
+    mesh.topology.create_connectivity(fdim, 0)
+    bad = ""
+    for tag in _tag_values(comm, facet_tags) if project is not None else []:
+        facets = facet_tags.find(tag)
+        vertices = dolfinx.mesh.compute_incident_entities(mesh.topology, facets, fdim, 0)
+        mid = np.setdiff1d(
+            dolfinx.fem.locate_dofs_topological(V, fdim, facets),
+            dolfinx.fem.locate_dofs_topological(V, 0, vertices),
+        )
+        assert project is not None
+        moved = project(tag, x[mid].copy())
+        if moved is None:
+            continue
+        moved = np.asarray(moved, dtype=x.dtype)
+        if moved.shape != (mid.size, 3):
+            bad = bad or f"project({tag}, points) returned shape {moved.shape}, not ({mid.size}, 3)"
+            continue
+        x[mid] = moved
+    message = [m for m in comm.allgather(bad) if m]
+    if message:
+        raise ValueError(message[0])
+
+    dofs = V.dofmap.index_map
+    cells = dofs.local_to_global(V.dofmap.list[:num_cells].reshape(-1)).reshape(num_cells, -1)
+    element = basix.ufl.element("Lagrange", "triangle", 2, shape=(gdim,))
+    new, parent = create_mesh_in_place(
+        comm, cells, np.ascontiguousarray(x[: dofs.size_local, :gdim]), ufl.Mesh(element)
+    )
+
+    values = np.full(num_cells + mesh.topology.index_map(tdim).num_ghosts, -1, dtype=np.int32)
+    values[cell_tags.indices] = cell_tags.values
+    tagged = np.flatnonzero(values[parent] >= 0).astype(np.int32)
+    new_cell_tags = dolfinx.mesh.meshtags(new, tdim, tagged, values[parent][tagged])
+
+    # A facet by one of its cells and its index there: DOLFINx keeps a cell's vertex order.
+    child = np.empty(num_cells, dtype=np.int32)
+    child[parent] = np.arange(parent.size, dtype=np.int32)
+    mesh.topology.create_connectivity(tdim, fdim)
+    new.topology.create_entities(fdim)
+    new.topology.create_connectivity(tdim, fdim)
+    new.topology.create_connectivity(fdim, tdim)
+    f2c = mesh.topology.connectivity(fdim, tdim)
+    c2f = mesh.topology.connectivity(tdim, fdim).array.reshape(-1, tdim + 1)
+    new_c2f = new.topology.connectivity(tdim, fdim).array.reshape(-1, tdim + 1)
+    # The lowest cell of a facet is an owned one where there is one (ghosts come last);
+    # a facet of ghost cells only is tagged on the process that owns them.
+    lowest = np.minimum.reduceat(f2c.array, f2c.offsets[:-1])
+    c = lowest[facet_tags.indices]
+    kept = c < num_cells
+    f, c = facet_tags.indices[kept], c[kept]
+    local = np.argmax(c2f[c] == f[:, None], axis=1)
+    facets = new_c2f[child[c], local].astype(np.int32)
+    facets, first = np.unique(facets, return_index=True)
+    new_facet_tags = dolfinx.mesh.meshtags(new, fdim, facets, facet_tags.values[kept][first])
+    return new, new_cell_tags, new_facet_tags
 
 
 def gmsh_projection(comm: MPI.Comm, rank: int = 0, dim: int | None = None) -> Projection:

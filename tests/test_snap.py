@@ -5,7 +5,9 @@
 A disk of radius 1 meshed by Gmsh and refined everywhere: the new boundary nodes lie on
 chords (inside the circle) until snap_boundary moves them onto it. The geometry must be
 the same on every process: the area DOLFINx integrates over the cells of each process
-equals the area of the polygon of the gathered boundary nodes.
+equals the area of the polygon of the gathered boundary nodes. Lifted to a quadratic
+geometry (curved_mesh), each boundary edge is the parabola through its ends and the
+arc's midpoint: the area adds a parabolic segment, 2/3 chord x sagitta, per edge.
 """
 
 import math
@@ -17,7 +19,13 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import gmsh_projection, gmsh_session, model_to_mesh, snap_boundary
+from dolfinx_contact_s2s import (
+    curved_mesh,
+    gmsh_projection,
+    gmsh_session,
+    model_to_mesh,
+    snap_boundary,
+)
 from dolfinx_contact_s2s.compat import refine_marked
 
 CIRCLE = 7
@@ -36,8 +44,8 @@ def _refined_disk(gmsh):
     mesh, ctags, ftags = model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0)
     mesh.topology.create_entities(1)
     edges = np.arange(mesh.topology.index_map(1).size_local, dtype=np.int32)
-    fine, (_, ftags) = refine_marked(mesh, edges, (ctags, ftags))
-    return fine, ftags
+    fine, (ctags, ftags) = refine_marked(mesh, edges, (ctags, ftags))
+    return fine, ctags, ftags
 
 
 def _boundary_radii(mesh, ftags):
@@ -69,7 +77,7 @@ def _circle(tag, points):
 @pytest.mark.parametrize("projection", ["analytic", "gmsh"])
 def test_refined_nodes_on_the_circle(projection):
     with gmsh_session() as gmsh:
-        mesh, ftags = _refined_disk(gmsh)
+        mesh, _, ftags = _refined_disk(gmsh)
         radii, _ = _boundary_radii(mesh, ftags)
         assert radii.min() < 1 - 1e-3  # the refinement's nodes lie on chords
         project = _circle if projection == "analytic" else gmsh_projection(mesh.comm)
@@ -87,3 +95,60 @@ def test_bad_projection():
     tags = dolfinx.mesh.meshtags(mesh, 1, np.sort(facets), np.full(facets.size, 3, np.int32))
     with pytest.raises(ValueError, match="shape"):
         snap_boundary(mesh, tags, lambda tag, x: x[:, :2])
+
+
+def _integral(mesh, measure):
+    one = dolfinx.fem.Constant(mesh, 1.0)
+    return mesh.comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(one * measure)))
+
+
+def test_curved_mesh_puts_its_edges_on_the_circle():
+    """The area of the lifted disk: the polygon plus a parabolic segment on every edge."""
+    with gmsh_session() as gmsh:
+        mesh, ctags, ftags = _refined_disk(gmsh)
+    snap_boundary(mesh, ftags, _circle)
+    curved, new_ctags, new_ftags = curved_mesh(mesh, ctags, ftags, _circle)
+    _, points = _boundary_radii(mesh, ftags)
+    theta = np.sort(np.arctan2(points[:, 1], points[:, 0]))
+    half = 0.5 * np.diff(np.append(theta, theta[0] + 2 * math.pi))
+    polygon = 0.5 * np.sum(np.sin(2 * half))
+    parabolas = np.sum(2 / 3 * (2 * np.sin(half)) * (1 - np.cos(half)))
+    dx = ufl.Measure("dx", domain=curved, subdomain_data=new_ctags)
+    ds = ufl.Measure("ds", domain=curved, subdomain_data=new_ftags)
+    assert _integral(curved, dx(1)) == pytest.approx(polygon + parabolas, rel=1e-12)
+    assert _integral(curved, dx) == pytest.approx(polygon + parabolas, rel=1e-12)
+    # The tags carried over: the whole boundary, closer to 2 pi than the chords' length.
+    chords = _integral(mesh, ufl.Measure("ds", domain=mesh, subdomain_data=ftags)(CIRCLE))
+    arcs = _integral(curved, ds(CIRCLE))
+    assert chords == pytest.approx(np.sum(2 * np.sin(half)), rel=1e-12)
+    assert abs(arcs - 2 * math.pi) < 1e-3 * abs(chords - 2 * math.pi)
+    for old, new in ((ctags, new_ctags), (ftags, new_ftags)):
+        count = [mesh.comm.allreduce(t.indices.size) for t in (old, new)]
+        assert count[0] == count[1] > 0
+
+
+def test_curved_mesh_of_a_mesh_with_ghosts_and_bad_input():
+    """A unit square with ghost cells (DOLFINx's default) lifts to the same square and tags."""
+    quads = dolfinx.mesh.create_unit_square(
+        MPI.COMM_WORLD, 2, 2, dolfinx.mesh.CellType.quadrilateral
+    )
+    mesh = dolfinx.mesh.create_unit_square(MPI.COMM_WORLD, 2, 2)
+    tags = []
+    for m in (quads, mesh):
+        facets = dolfinx.mesh.locate_entities_boundary(m, 1, lambda x: np.isclose(x[0], 0))
+        cells = np.arange(m.topology.index_map(2).size_local, dtype=np.int32)
+        tags.append(
+            (
+                dolfinx.mesh.meshtags(m, 2, cells, np.ones(cells.size, np.int32)),
+                dolfinx.mesh.meshtags(m, 1, np.sort(facets), np.full(facets.size, 3, np.int32)),
+            )
+        )
+    square, cell_tags, facet_tags = curved_mesh(mesh, *tags[1])
+    ds = ufl.Measure("ds", domain=square, subdomain_data=facet_tags)
+    dx = ufl.Measure("dx", domain=square, subdomain_data=cell_tags)
+    assert _integral(square, ds(3)) == pytest.approx(1.0, rel=1e-14)
+    assert _integral(square, dx(1)) == pytest.approx(1.0, rel=1e-14)
+    with pytest.raises(NotImplementedError, match="triangle"):
+        curved_mesh(quads, *tags[0])
+    with pytest.raises(ValueError, match="shape"):
+        curved_mesh(mesh, *tags[1], lambda tag, x: x[:, :2])

@@ -465,8 +465,9 @@ def adaptive(
 ) -> AxiResult:
     r"""A scene with the adaptive contact edge, from a triangle mesh of size ``h``.
 
-    The hemispheres are meshed with linear geometry (DOLFINx refines only those), the
-    displacements of degree ``degree``;
+    The hemispheres are meshed with linear geometry (DOLFINx refines only those), each
+    refined mesh lifted to a geometry of degree ``degree`` for the solve (midside nodes on
+    the spheres), the displacements of degree ``degree``;
     :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` refines around the
     contact edge until its bracket is ``tolerance`` of the zone's radius (and, with
     ``pressure_tolerance``, inside the zone), moving the nodes it adds on the contact arcs
@@ -496,6 +497,7 @@ def adaptive(
         snap=snap,
         restart=True,
         pressure_tolerance=pressure_tolerance,
+        geometry_degree=degree,
     )
     with result.problem as problem:
         r, p, force, edges = read(problem)

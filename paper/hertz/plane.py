@@ -177,7 +177,7 @@ def adaptive_run(
         max_steps=max_steps,
         length=case.a,
         snap=circle(case),
-        **options,
+        **({"geometry_degree": case.degree} | options),
     )
     with result.problem:
         final = errors(case, result.problem)

@@ -83,7 +83,13 @@ def test_quadrilaterals_and_bad_arguments():
     with pytest.raises(NotImplementedError, match="simplices"):
         refine_contact_zone(lambda *args: None, mesh, tags, tags)
     scene = _scene()
-    for bad in ({"tolerance": 0.0}, {"max_steps": -1}, {"length": -1.0}, {"layers": 0.0}):
+    for bad in (
+        {"tolerance": 0.0},
+        {"max_steps": -1},
+        {"length": -1.0},
+        {"layers": 0.0},
+        {"geometry_degree": 3},
+    ):
         with pytest.raises(ValueError):
             refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, **bad)
     with pytest.raises(ValueError, match="as many"):
