@@ -38,6 +38,7 @@ from dolfinx_contact_s2s import (
     plane_obstacle,
     rigid_surface,
 )
+from paper.scenes import size_field
 
 __all__ = [
     "RigidResult",
@@ -117,23 +118,6 @@ def _tag_curves(gmsh: typing.Any, groups: dict[int, list[int]]) -> None:
         gmsh.model.addPhysicalGroup(1, curves, tag)
 
 
-def _size_field(gmsh: typing.Any, point: int, near: float, far: float, reach: float) -> None:
-    """Element size ``near`` within ``reach`` of ``point``, growing to ``far``."""
-    f = gmsh.model.mesh.field
-    distance = f.add("Distance")
-    f.setNumbers(distance, "PointsList", [point])
-    threshold = f.add("Threshold")
-    f.setNumber(threshold, "InField", distance)
-    f.setNumber(threshold, "SizeMin", near)
-    f.setNumber(threshold, "SizeMax", far)
-    f.setNumber(threshold, "DistMin", reach)
-    f.setNumber(threshold, "DistMax", reach + (far - near) / 0.3)
-    f.setAsBackgroundMesh(threshold)
-    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-
-
 def quarter_disk(comm: MPI.Comm, R: float, h: float, degree: int) -> tuple:
     """The quarter disk x >= 0, y <= R about (0, R), size h near the origin (Gmsh)."""
     with gmsh_session() as gmsh:
@@ -151,7 +135,7 @@ def quarter_disk(comm: MPI.Comm, R: float, h: float, degree: int) -> tuple:
             geo.synchronize()
             gmsh.model.addPhysicalGroup(2, [surface], 1)
             _tag_curves(gmsh, {CONTACT: [arc1], LOADED: [top], SYMMETRY: [axis]})
-            _size_field(gmsh, origin, h, R / 8, 0.25 * R)
+            size_field(gmsh, origin, h, R / 8, 0.25 * R)
             gmsh.model.mesh.generate(2)
             gmsh.model.mesh.setOrder(degree)
         return model_to_mesh(gmsh.model, comm, 0)
@@ -262,7 +246,7 @@ def _layer(comm: MPI.Comm, W: float, D: float, a: float, h: float, degree: int) 
             gmsh.model.addPhysicalGroup(2, [surface], 1)
             groups = {CONTACT: lines[:2], LOADED: [lines[3]], SYMMETRY: [lines[4]]}
             _tag_curves(gmsh, groups)
-            _size_field(gmsh, p[0], h, max(W, D) / 10, 1.2 * a)
+            size_field(gmsh, p[0], h, max(W, D) / 10, 1.2 * a)
             gmsh.model.mesh.generate(2)
             gmsh.model.mesh.setOrder(degree)
         return model_to_mesh(gmsh.model, comm, 0)

@@ -26,6 +26,7 @@ __all__ = [
     "PatchTestScene",
     "inf_sup_model",
     "patch_test",
+    "size_field",
 ]
 
 
@@ -253,3 +254,24 @@ def inf_sup_model(
         msh_dir=msh_dir,
         partitioner=partitioner,
     )
+
+
+def size_field(gmsh: typing.Any, point: int, near: float, far: float, reach: float) -> None:
+    """Gmsh background field: size ``near`` within ``reach`` of ``point``, growing to ``far``.
+
+    The size grows linearly (slope 0.3) beyond ``reach``; sizes from points, boundaries
+    and curvature are switched off, so the field alone sizes the mesh.
+    """
+    f = gmsh.model.mesh.field
+    distance = f.add("Distance")
+    f.setNumbers(distance, "PointsList", [point])
+    threshold = f.add("Threshold")
+    f.setNumber(threshold, "InField", distance)
+    f.setNumber(threshold, "SizeMin", near)
+    f.setNumber(threshold, "SizeMax", far)
+    f.setNumber(threshold, "DistMin", reach)
+    f.setNumber(threshold, "DistMax", reach + (far - near) / 0.3)
+    f.setAsBackgroundMesh(threshold)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)

@@ -49,6 +49,8 @@ from dolfinx_contact_s2s import (
 from dolfinx_contact_s2s.meshing import Projection
 from dolfinx_contact_s2s.postprocess import ESTIMATES
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem, refine_contact_zone
+from paper.hertz.exact import pressure_l2_error
+from paper.scenes import size_field
 
 __all__ = [
     "ACROSS",
@@ -121,10 +123,7 @@ def hertz_measures(
     """
     r, p = result.r, result.pressure
     a_h, inside, outside, method = result.edges[estimate]
-    fine = np.linspace(0.0, 1.5 * max(a, a_h), 20001)
-    exact = p0 * np.sqrt(np.clip(1 - (fine / a) ** 2, 0.0, None))
-    diff = np.interp(fine, r, p) - exact
-    l2 = math.sqrt(np.trapezoid(diff**2 * fine, fine) / np.trapezoid(exact**2 * fine, fine))
+    l2 = pressure_l2_error(r, p, a, p0, a_h, radial=True)
     return {
         "a": a_h,
         "estimate": method,
@@ -135,23 +134,6 @@ def hertz_measures(
         "p0_error": abs(p[0] / p0 - 1),
         "L2_error": l2,
     }
-
-
-def _size_field(gmsh: typing.Any, point: int, near: float, far: float, reach: float) -> None:
-    """Element size ``near`` within ``reach`` of ``point``, growing to ``far``."""
-    f = gmsh.model.mesh.field
-    distance = f.add("Distance")
-    f.setNumbers(distance, "PointsList", [point])
-    threshold = f.add("Threshold")
-    f.setNumber(threshold, "InField", distance)
-    f.setNumber(threshold, "SizeMin", near)
-    f.setNumber(threshold, "SizeMax", far)
-    f.setNumber(threshold, "DistMin", reach)
-    f.setNumber(threshold, "DistMax", reach + (far - near) / 0.3)
-    f.setAsBackgroundMesh(threshold)
-    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
 
 
 def hemisphere(
@@ -188,7 +170,7 @@ def hemisphere(
             gmsh.model.addPhysicalGroup(2, [surface], 1)
             for tag, curves in ((CONTACT, [arc1]), (LOADED, [flat]), (AXIS, [axis])):
                 gmsh.model.addPhysicalGroup(1, curves, tag)
-            _size_field(gmsh, tip, h, R / 8, 0.25 * R if reach is None else reach)
+            size_field(gmsh, tip, h, R / 8, 0.25 * R if reach is None else reach)
             if cell == "quadrilateral":
                 gmsh.option.setNumber("Mesh.RecombineAll", 1)
                 gmsh.option.setNumber("Mesh.Algorithm", 8)

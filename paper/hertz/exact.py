@@ -29,7 +29,7 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
 
-__all__ = ["Hertz", "HertzMeasures", "measure"]
+__all__ = ["Hertz", "HertzMeasures", "measure", "pressure_l2_error"]
 
 #: Gauss points per (half) cell of the integrals in :func:`measure`.
 _POINTS = 12
@@ -332,3 +332,26 @@ def measure(lam: dolfinx.fem.Function, exact: Hertz) -> HertzMeasures:
         p0_error=float((p0 - p0_ex) / p0_ex),
         pressure_l2_error=l2,
     )
+
+
+def pressure_l2_error(
+    x: npt.NDArray[np.floating],
+    pressure: npt.NDArray[np.floating],
+    a: float,
+    p0: float,
+    a_h: float,
+    radial: bool = False,
+) -> float:
+    r"""Relative L2 error :math:`\|\lambda_h - p\| / \|p\|` of a pressure profile against Hertz.
+
+    :math:`p = p_0 \sqrt{1 - x^2/a^2}` inside the contact, 0 outside; :math:`\lambda_h`
+    piecewise linear between the sorted abscissae ``x`` of the multiplier's nodes
+    (:func:`~dolfinx_contact_s2s.pressure_profile`), both integrated over
+    :math:`0 \le x \le 1.5 \max(a, a_h)` on 20001 points (trapezoidal rule), with the
+    weight :math:`x` (the axisymmetric :math:`2\pi r`) if ``radial``.
+    """
+    fine = np.linspace(0.0, 1.5 * max(a, a_h), 20001)
+    exact = p0 * np.sqrt(np.clip(1.0 - (fine / a) ** 2, 0.0, None))
+    diff = np.interp(fine, x, pressure) - exact
+    weight = fine if radial else np.ones_like(fine)
+    return math.sqrt(np.trapezoid(diff**2 * weight, fine) / np.trapezoid(exact**2 * weight, fine))

@@ -39,6 +39,7 @@ from dolfinx_contact_s2s import (
     rigid_surface,
 )
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem, refine_contact_zone
+from paper.hertz.exact import pressure_l2_error
 from paper.rigid import CONTACT, LOADED, SYMMETRY, TARGET, quarter_disk
 
 __all__ = ["PlaneCase", "adaptive_run", "build", "circle", "errors", "uniform_run"]
@@ -139,11 +140,7 @@ def errors(case: PlaneCase, problem: UnilateralContactProblem) -> dict:
     x, p = profile.x[:, 0], profile.pressure
     order = np.argsort(x)
     x, p = x[order], p[order]
-    upto = 1.5 * max(case.a, a_h)
-    fine = np.linspace(0.0, upto, 20001)
-    exact = case.p0 * np.sqrt(np.clip(1.0 - (fine / case.a) ** 2, 0.0, None))
-    diff = np.interp(fine, x, p) - exact
-    l2 = math.sqrt(np.trapezoid(diff**2, fine) / np.trapezoid(exact**2, fine))
+    l2 = pressure_l2_error(x, p, case.a, case.p0, a_h)
     return {
         "a": a_h,
         "a_error": a_h / case.a - 1.0,
