@@ -16,9 +16,9 @@ to R/8. Triangles start from h = a/9.3 (deliberately not a divisor of a: no node
 r = a by construction), with linear geometry, and refine_contact_zone refines the edge
 to a bracket of 1% of the zone (and inside it with a pressure tolerance), snapping the
 new boundary nodes onto the spheres, and for P2 lifting each refined mesh to a curved
-quadratic geometry (curved_mesh). Uniform curved P2 meshes, triangles and
-quadrilaterals (which DOLFINx cannot refine), at h = a/24.6, edge from the "pressure"
-estimate (README: sizes from a/15 to a/38 measured).
+quadratic geometry (curved_mesh). Uniform curved meshes: P2 triangles and
+quadrilaterals at h = a/24.6, edge from the "pressure" estimate (README: sizes from a/15
+to a/38 measured), and P1 quadrilaterals (which DOLFINx cannot refine) at h = a/40.3.
 """
 
 import math
@@ -42,8 +42,8 @@ SCENE = {"plane": "sphere-on-plane", "spheres": "two-spheres"}
 #: node's pressure (p0) needs the refinement inside the zone.
 PRESSURE_TOLERANCE = {1: 0.005, 2: 0.01}
 
-#: Elements across the contact radius of the quadrilateral meshes (not a divisor of a).
-QUAD_ACROSS = 24.6
+#: Elements across the contact radius of the uniform P2 meshes (not a divisor of a).
+P2_ACROSS = 24.6
 
 
 @pytest.fixture(scope="module")
@@ -81,16 +81,25 @@ def test_adaptive_edge(scene, degree, records):
     assert rec["p0_error"] < 0.02
 
 
-@pytest.mark.parametrize("cell", ["triangle", "quadrilateral"])
-@pytest.mark.parametrize("scene", ["plane", "spheres"])
-def test_uniform_p2(scene, cell, records):
-    """P2, uniform, curved, at a/h = 24.6: a 1%, p0 2%, L2(p) 5%.
+#: Uniform meshes, geometry of the displacement's degree: (degree, cell, a/h, edge estimate).
+UNIFORM = [
+    (2, "triangle", P2_ACROSS, "pressure"),
+    (2, "quadrilateral", P2_ACROSS, "pressure"),
+    (1, "quadrilateral", 40.3, "gap"),
+]
 
-    The edge from contact_zones' "pressure" estimate: on the quadrilateral meshes it
-    stays within 1% from a/h = 15 to 38, the "gap" estimate swings by up to 2.5% (README).
+
+@pytest.mark.parametrize(("degree", "cell", "across", "estimate"), UNIFORM)
+@pytest.mark.parametrize("scene", ["plane", "spheres"])
+def test_uniform(scene, degree, cell, across, estimate, records):
+    """Uniform meshes (P2 curved), no node at a: a 1%, p0 2%, L2(p) 5%.
+
+    P2 at a/h = 24.6, the edge from contact_zones' "pressure" estimate: on the
+    quadrilateral meshes it stays within 1% from a/h = 15 to 38, the "gap" estimate swings
+    by up to 2.5% (README). P1 quadrilaterals (DOLFINx refines none) at a/h = 40.3 with
+    the "gap" estimate (README: a/h = 33 to 53 measured, p0 converging like h).
     """
-    rec = run(comm, SCENE[scene], degree=2, cell=cell, h=A / QUAD_ACROSS, estimate="pressure")
-    records.append(rec)
+    rec = run(comm, SCENE[scene], degree=degree, cell=cell, h=A / across, estimate=estimate)
     assert np.min(np.abs(np.asarray(rec["bracket"]) - A)) > 1e-3 * A  # no node at a
     assert rec["a_error"] < 0.01
     assert rec["p0_error"] < 0.02
