@@ -100,6 +100,7 @@ def test_uniform(scene, degree, cell, across, estimate, records):
     the "gap" estimate (README: a/h = 33 to 53 measured, p0 converging like h).
     """
     rec = run(comm, SCENE[scene], degree=degree, cell=cell, h=A / across, estimate=estimate)
+    records.append(rec)
     assert np.min(np.abs(np.asarray(rec["bracket"]) - A)) > 1e-3 * A  # no node at a
     assert rec["a_error"] < 0.01
     assert rec["p0_error"] < 0.02
