@@ -72,15 +72,20 @@ FACE_ELEMENTS: dict[int, tuple[str, int]] = {
 _CORNERS = {"triangle": (0, 1, 2), "quadrilateral": (0, 1, 3, 2)}
 
 
-@functools.lru_cache
-def _element(num_nodes: int) -> basix.finite_element.FiniteElement:
-    """The Basix element of faces with ``num_nodes`` geometry nodes."""
+def _face_element(num_nodes: int) -> tuple[str, int]:
+    """The ``(cell, degree)`` of faces with ``num_nodes`` geometry nodes."""
     if num_nodes not in FACE_ELEMENTS:
         raise ValueError(
             f"faces with {num_nodes} nodes are not supported; the number of nodes picks "
             f"the element: {FACE_ELEMENTS}"
         )
-    cell, degree = FACE_ELEMENTS[num_nodes]
+    return FACE_ELEMENTS[num_nodes]
+
+
+@functools.lru_cache
+def _element(num_nodes: int) -> basix.finite_element.FiniteElement:
+    """The Basix element of faces with ``num_nodes`` geometry nodes."""
+    cell, degree = _face_element(num_nodes)
     return basix.create_element(
         basix.ElementFamily.P, basix.CellType[cell], degree, basix.LagrangeVariant.gll_warped
     )
@@ -88,7 +93,7 @@ def _element(num_nodes: int) -> basix.finite_element.FiniteElement:
 
 def _corners(nodes: _Array) -> _Array:
     """The corner nodes of faces, counter-clockwise in the reference cell, ``(F, m, 3)``."""
-    cell, _ = FACE_ELEMENTS[nodes.shape[1]]
+    cell, _ = _face_element(nodes.shape[1])
     return nodes[:, _CORNERS[cell]]
 
 
@@ -119,8 +124,10 @@ def evaluate(nodes: _Array, rows: _Rows, xi: _Array) -> tuple[_Array, _Array]:
 
 def _solve(A: _Array, b: _Array) -> tuple[_Array, npt.NDArray[np.bool_]]:
     """Batched 3x3 solves; singular ones (relative to Hadamard's bound) give NaN."""
+    finite = np.all(np.isfinite(A), axis=(1, 2)) & np.all(np.isfinite(b), axis=1)
+    A = np.where(finite[:, None, None], A, np.eye(3))
     bound = np.prod(np.linalg.norm(A, axis=1), axis=1)
-    regular = np.abs(np.linalg.det(A)) > ROUND_OFF * bound
+    regular = finite & (np.abs(np.linalg.det(A)) > ROUND_OFF * bound)
     safe = np.where(regular[:, None, None], A, np.eye(3))
     x = np.linalg.solve(safe, b[:, :, None])[:, :, 0]
     x[~regular] = np.nan
