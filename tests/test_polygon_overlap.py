@@ -235,6 +235,16 @@ def test_rule_integrates_monomials_on_triangle_square_overlap(degree, contactor)
     assert np.allclose(rule.gap, -0.05, rtol=0, atol=1e-14)
 
 
+def test_contactor_facing_down():
+    """Orientation -1: the contactor's outward normal is -z, its target 0.1 below."""
+    c, t = quad_face(0, 0, 1, 1), quad_face(0.3, -0.4, 1.3, 0.6, z=-0.1)
+    rule = overlap_rule(c[None], -np.ones(1), t[None], np.ones(1), [0], [0], 2)
+    assert abs(rule.surface_weights.sum() - 0.7 * 0.6) <= 1e-15
+    assert np.allclose(rule.normals, [0, 0, -1], rtol=0, atol=1e-15)
+    assert np.allclose(rule.gap, 0.1, rtol=0, atol=1e-15)
+    assert np.allclose(rule.eta, rule.xi - [0.3, -0.4], rtol=0, atol=1e-15)
+
+
 def test_non_facing_targets_are_dropped():
     c, t = quad_face(0, 0, 1, 1), quad_face(0.2, 0.2, 1.2, 1.2, z=0.1)
     same_side = overlap_rule(c[None], np.ones(1), t[None], np.ones(1), [0], [0], 2)
@@ -456,3 +466,44 @@ def test_line_along_the_face_raises_naming_it(num_nodes):
     along = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])  # face 1's line lies in its plane
     with pytest.raises(RuntimeError, match="target face 1: no point met along the line"):
         intersect(faces, rows, origins, along, name="target face")
+
+
+@pytest.mark.parametrize("cell", ["triangle", "quadrilateral"])
+def test_curved_contactor_pulled_back_along_its_plane_normal(cell):
+    """A P2/Q2 contactor under a flat target plane z = 1 that covers it."""
+    element = basix.create_element(
+        basix.ElementFamily.P, basix.CellType[cell], 2, basix.LagrangeVariant.gll_warped
+    )
+    c_nodes = smooth(element.points)
+    t_nodes = quad_face(-1.0, -1.0, 2.0, 2.0, z=1.0)
+    rule = rule_of(c_nodes, t_nodes, 4)
+    # The contactor plane, as documented: origin at the corners' centroid, n their unit
+    # vector area, e1 the first corner edge made orthogonal to n, e2 = n x e1.
+    corners = c_nodes[[0, 1, 2]] if cell == "triangle" else c_nodes[[0, 1, 3, 2]]
+    origin = corners.mean(axis=0)
+    vector_area = 0.5 * np.cross(corners - origin, np.roll(corners, -1, axis=0) - origin).sum(0)
+    n = vector_area / np.linalg.norm(vector_area)
+    e1 = corners[1] - corners[0]
+    e1 = e1 - (e1 @ n) * n
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    # The pieces tile the corner polygon's shadow on the plane.
+    assert abs(rule.weights.sum() - np.linalg.norm(vector_area)) <= 1e-14
+    xi = rule.xi.reshape(-1, 2)
+    table = element.tabulate(1, xi)[:, :, :, 0]
+    x_c = table[0] @ c_nodes
+    # Each point of the plane is pulled back along n onto the curved face.
+    in_plane = np.stack([(x_c - origin) @ e1, (x_c - origin) @ e2], axis=1)
+    assert np.max(np.abs(in_plane - rule.points.reshape(-1, 2))) <= 1e-13
+    # The outward normal at the point and the area element relative to the plane's.
+    dx = np.stack([table[1] @ c_nodes, table[2] @ c_nodes], axis=2)
+    cross = np.cross(dx[:, :, 0], dx[:, :, 1])
+    n_c = cross / np.linalg.norm(cross, axis=1)[:, None]
+    assert np.max(np.abs(rule.normals.reshape(-1, 3) - n_c)) <= 1e-14
+    ratio = np.linalg.norm(cross, axis=1) / np.abs(cross @ n)
+    assert np.allclose(rule.surface_weights.reshape(-1), rule.weights.reshape(-1) * ratio)
+    # Eq. (38): the line from x_c along n_c meets z = 1 at gap (1 - z_c) / n_z.
+    gap = (1.0 - x_c[:, 2]) / n_c[:, 2]
+    assert np.max(np.abs(rule.gap.reshape(-1) - gap)) <= 1e-13
+    x_t = x_c + gap[:, None] * n_c
+    assert np.max(np.abs(rule.eta.reshape(-1, 2) - (x_t[:, :2] + 1.0) / 3.0)) <= 1e-13
