@@ -28,9 +28,12 @@ Basix's Lagrange element on the face (the number of nodes picks the element:
 Reference coordinates are Basix's: the triangle :math:`\{\xi_1, \xi_2 \ge 0,
 \xi_1 + \xi_2 \le 1\}`, the square :math:`[0, 1]^2`.
 
-This is the NumPy reference: the geometry is vectorized over points and pairs, the
-clipping is a Python loop over the facing candidate pairs (a few hundred microseconds a
-pair); a compiled version belongs beside the C kernels.
+This is the NumPy reference: the geometry and the Newton solves are vectorized over
+points and pairs, the clipping is a Python loop over the facing candidate pairs (about
+0.1 ms a pair: 27 ms for the 216 pairs of 18 triangles against 12 rectangles); a
+compiled version belongs beside the C kernels. Sutherland-Hodgman needs convex polygons:
+a quadrilateral whose projected corners are not convex (a badly warped or folded face)
+is not detected here.
 """
 
 from __future__ import annotations
@@ -443,7 +446,9 @@ def overlap_rule(
 
     On flat faces the pieces tile the overlap exactly and the rule integrates every
     polynomial of the contactor's and target's coordinates up to ``degree`` exactly (the
-    patch test). On curved faces the pieces are bounded by the chords between corners.
+    patch test). On curved faces the pieces are bounded by the chords between corners in
+    the contactor's plane, so their pull-backs may leave the reference cell by the bulge
+    of a curved edge; ``eta`` may leave the target's cell by round-off near its edges.
 
     Args:
         c_nodes: Contactor face nodes, ``(Fc, Kc, 3)``.
