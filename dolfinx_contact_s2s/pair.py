@@ -47,7 +47,7 @@ from dolfinx_contact_s2s.axisymmetry import (
     ring_weights,
 )
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
-from dolfinx_contact_s2s.quadrature import RULES, interval_rule
+from dolfinx_contact_s2s.quadrature import RULES, interval_rule, triangle_rule
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
@@ -231,6 +231,18 @@ class ContactPair:
         if quadrature not in RULES:
             raise ValueError(f"unknown quadrature {quadrature!r}; choose from {RULES}")
         self.quadrature = quadrature
+        if contactor.facet_dim == 2 and (
+            method != "segment-to-segment"
+            or quadrature != "composite-gauss"
+            or multiplier
+            or self.obstacles
+        ):
+            raise NotImplementedError(
+                "on the faces of 3D meshes: method='segment-to-segment' with the "
+                "composite-gauss rule and its default multiplier, against meshed targets, "
+                f"only (got method={method!r}, quadrature={quadrature!r}, "
+                f"multiplier={multiplier!r}, {len(self.obstacles)} analytic obstacles)"
+            )
 
         k_c = contactor.element.degree
         family, degree = ("Lagrange", k_c) if multiplier is None else multiplier
@@ -256,8 +268,13 @@ class ContactPair:
             else:
                 quadrature_points = (degree + k_u + 2 * curved) // 2 + 1
         self.quadrature_points = int(quadrature_points)
-        #: Points and weights of the rule on [0, 1].
-        self.rule = interval_rule(quadrature, self.quadrature_points)
+        #: Points and weights of the rule on [0, 1] (edges), or on the reference triangle
+        #: (faces: placed on each sub-triangle of an overlap, exact to the degree that
+        #: ``quadrature_points`` Gauss points reach on an interval).
+        if contactor.facet_dim == 2:
+            self.rule = triangle_rule(2 * self.quadrature_points - 1)
+        else:
+            self.rule = interval_rule(quadrature, self.quadrature_points)
 
         continuous, degree, variant = discretization.multiplier(
             continuous, degree, self.quadrature_points
@@ -279,9 +296,12 @@ class ContactPair:
         self.Q = self.multiplier.Q
         self.multiplier_element = self.multiplier.element
         self.submesh = self.Q.mesh
-        # The multiplier basis H^k (Eq. 42) as polynomials in its cell's parameter s.
-        self._multiplier_table = facet_monomials(
-            self.multiplier_element, np.zeros((1, 1)), np.ones((1, 1))
+        # The multiplier basis H^k (Eq. 42) on edges as polynomials in its cell's parameter
+        # s; on faces it is tabulated at the points (MultiplierSpace.reference_points).
+        self._multiplier_table = (
+            facet_monomials(self.multiplier_element, np.zeros((1, 1)), np.ones((1, 1)))
+            if contactor.facet_dim == 1
+            else None
         )
         gathered = [t.gather() for t in targets] if discretization.nodal else []
         self.duplicates = discretization.duplicates(self, gathered)
@@ -392,10 +412,11 @@ class ContactPair:
     def _integrate(self, ts: ContactSurface, T: SurfaceData, g: PointGroups) -> CouplingBlocks:
         """The blocks of Eqs. (40)-(42) at the points ``g`` against target ``ts``."""
         cs, C = self.contactor, self.contactor.data
-        S, nq = g.xi.shape
+        S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
         rows_t = np.repeat(g.target, nq)
-        xi = np.ascontiguousarray(g.xi.reshape(-1))
+        # One parameter per point on an edge, two reference coordinates on a face.
+        xi = np.ascontiguousarray(g.xi.reshape(S * nq, *g.xi.shape[2:]))
 
         kernels = cs.backend
         normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
@@ -405,17 +426,21 @@ class ContactPair:
         local = np.arange(rows_c.size, dtype=np.int32)
         c_local = C.coefficients[rows_c]
         origin = c_local[:, 0].copy()
-        c_local[:, 0] = 0.0
-        t_local = T.coefficients[rows_t]
-        t_local[:, 0] -= origin
+        c_local = kernels.shift(c_local, -origin)
+        t_local = ts.backend.shift(T.coefficients[rows_t], -origin)
         x_c, _ = kernels.evaluate(c_local, local, xi)
         eta = kernels.intersect(t_local, local, x_c, normals)
         np.clip(eta, 0.0, 1.0, out=eta)
         x_t, _ = kernels.evaluate(t_local, local, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
-        s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)
-        mu = kernels.facet_basis(self._multiplier_table, np.zeros(s_sub.size, np.int32), s_sub)
+        if self._multiplier_table is None:
+            mu = self.multiplier.basis(rows_c, xi)
+        else:
+            s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)
+            mu = kernels.facet_basis(
+                self._multiplier_table, np.zeros(s_sub.size, np.int32), s_sub
+            )
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
         phi_c, phi_t = cs.facet_basis(C, rows_c, xi), ts.facet_basis(T, rows_t, eta)

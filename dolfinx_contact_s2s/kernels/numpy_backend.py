@@ -40,6 +40,7 @@ __all__ = [
     "outward_normals",
     "project",
     "segment_to_segment",
+    "shift",
 ]
 
 _Array = npt.NDArray[np.float64]
@@ -74,6 +75,13 @@ def facet_coefficients(basis: _Array, local_facet: npt.NDArray[np.int32], coords
         ``(F, p + 1, gdim)``.
     """
     return np.einsum("fmk,fkg->fmg", basis[local_facet], coords)
+
+
+def shift(coefficients: _Array, offset: _Array) -> _Array:
+    """The facets moved by ``offset`` ``(F, gdim)``: the constant coefficient moves (a new array)."""
+    moved = coefficients.copy()
+    moved[:, 0] += offset
+    return moved
 
 
 def _horner(c: _Array, xi: _Array) -> _Array:
