@@ -138,6 +138,20 @@ def test_closed_form_cases_c_equals_numpy(c_kernels):
     compare(c_kernels, list(subjects), list(clips))
 
 
+def test_nan_vertex_gives_empty_overlap(polygon_backend):
+    """A NaN coordinate makes the tolerance NaN: no overlap, and no triangle, in both."""
+    unit = square()
+    bad = square(0.3, 0.6)
+    bad[2, 0] = np.nan
+    s, ns = pad([bad, unit, unit], 4)
+    c, nc = pad([unit, bad, unit], 4)
+    out, counts = polygon_backend.clip_polygons(s, c, ns, nc)
+    np.testing.assert_array_equal(counts, [0, 0, 4])
+    out[2, 1, 1] = np.nan
+    tris, owner = polygon_backend.triangulate_polygons(out, counts)
+    assert tris.shape == (0, 3, 2) and owner.shape == (0,)
+
+
 # -- (b) random convex pairs, built to meet the snapping rule ----------------------------
 
 

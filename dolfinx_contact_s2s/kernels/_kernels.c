@@ -521,6 +521,13 @@ static void s2s_reverse(double *v, int n)
   }
 }
 
+/* max(size, v) as NumPy's max: a NaN wins (so that, as in the reference, a NaN vertex
+ * makes the tolerance NaN and the overlap empty; fmax would drop it). */
+static double s2s_max_nan(double size, double v)
+{
+  return (v > size || isnan(v)) ? v : size;
+}
+
 /* Mean of n vertices as NumPy's mean(axis=0): summed row after row, then divided. */
 static void s2s_vertex_mean(const double *v, int n, double *c)
 {
@@ -553,13 +560,13 @@ static int s2s_clip_one(const double *s, int ns, const double *c, int nc, double
     for (int g = 0; g < 2; ++g)
     {
       poly[2 * i + g] = s[2 * i + g] - centre[g];
-      size = fmax(size, fabs(poly[2 * i + g]));
+      size = s2s_max_nan(size, fabs(poly[2 * i + g]));
     }
   for (int i = 0; i < nc; ++i)
     for (int g = 0; g < 2; ++g)
     {
       clip[2 * i + g] = c[2 * i + g] - centre[g];
-      size = fmax(size, fabs(clip[2 * i + g]));
+      size = s2s_max_nan(size, fabs(clip[2 * i + g]));
     }
   const double tol = round_off * size;
   if (s2s_signed_area(poly, ns) < 0.0)
@@ -681,7 +688,7 @@ int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *c
     for (int i = 0; i < 2 * n; ++i)
     {
       rel[i] = v[i] - centre[i % 2];
-      size = fmax(size, fabs(rel[i]));
+      size = s2s_max_nan(size, fabs(rel[i]));
     }
     /* pow, as NumPy's scalar size**2, not size * size: the same rounding as the reference. */
     const double flat = round_off * pow(size, 2.0);
