@@ -459,3 +459,254 @@ int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int6
   free(where);
   return out;
 }
+
+/* ---- Convex polygons in the plane (polygon.clip_convex, polygon.triangulate) ----------
+ *
+ * These reproduce the NumPy reference operation by operation, including the order of
+ * its sums, so that both backends give the same vertices up to the last bit: a vertex
+ * snapped onto an edge's line in one and not in the other would change the number of
+ * vertices, not only their digits. */
+
+/* Vertices of the working polygons: enough for convex polygons of up to 32 vertices in
+ * all (each half-plane cut of a convex polygon adds at most one vertex); the Python
+ * layer checks that bound. */
+#define S2S_POLY_CAPACITY 64
+
+/* sum a[0] + ... + a[n - 1] as NumPy's add.reduce sums a contiguous array: in order
+ * below 8 terms, else in 8 interleaved partial sums (pairwise_sum, n <= 128 here). */
+static double s2s_numpy_sum(const double *a, int n)
+{
+  if (n < 8)
+  {
+    double s = 0.0;
+    for (int i = 0; i < n; ++i)
+      s += a[i];
+    return s;
+  }
+  double r[8];
+  for (int j = 0; j < 8; ++j)
+    r[j] = a[j];
+  int i = 8;
+  for (; i < n - (n % 8); i += 8)
+    for (int j = 0; j < 8; ++j)
+      r[j] += a[i + j];
+  double s = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+  for (; i < n; ++i)
+    s += a[i];
+  return s;
+}
+
+/* Signed area of polygon v (n vertices, x y interleaved), positive counter-clockwise:
+ * the terms x_i y_{i+1} - x_{i+1} y_i summed as polygon._signed_area sums them. */
+static double s2s_signed_area(const double *v, int n)
+{
+  double t[S2S_POLY_CAPACITY];
+  for (int i = 0; i < n; ++i)
+  {
+    int j = (i + 1) % n;
+    t[i] = v[2 * i] * v[2 * j + 1] - v[2 * j] * v[2 * i + 1];
+  }
+  return 0.5 * s2s_numpy_sum(t, n);
+}
+
+static void s2s_reverse(double *v, int n)
+{
+  for (int i = 0, j = n - 1; i < j; ++i, --j)
+  {
+    double x = v[2 * i], y = v[2 * i + 1];
+    v[2 * i] = v[2 * j];
+    v[2 * i + 1] = v[2 * j + 1];
+    v[2 * j] = x;
+    v[2 * j + 1] = y;
+  }
+}
+
+/* max(size, v) as NumPy's max: a NaN wins (so that, as in the reference, a NaN vertex
+ * makes the tolerance NaN and the overlap empty; fmax would drop it). */
+static double s2s_max_nan(double size, double v)
+{
+  return (v > size || isnan(v)) ? v : size;
+}
+
+/* Mean of n vertices as NumPy's mean(axis=0): summed row after row, then divided. */
+static void s2s_vertex_mean(const double *v, int n, double *c)
+{
+  double x = 0.0, y = 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    x += v[2 * i];
+    y += v[2 * i + 1];
+  }
+  c[0] = x / n;
+  c[1] = y / n;
+}
+
+/* The overlap of convex polygons s (ns vertices) and c (nc vertices) into out; returns
+ * its number of vertices, 0 if empty, -1 if it has more than `width` vertices or a cut
+ * would exceed the working capacity (the polygons are not convex). */
+static int s2s_clip_one(const double *s, int ns, const double *c, int nc, double round_off,
+                        int width, double *out)
+{
+  /* Two working polygons, cut from one into the other. */
+  double buf[2][2 * S2S_POLY_CAPACITY], clip[2 * S2S_POLY_CAPACITY];
+  double d[S2S_POLY_CAPACITY];
+  if (ns < 3 || nc < 3)
+    return 0;
+  double centre[2];
+  s2s_vertex_mean(c, nc, centre);
+  double size = 0.0;
+  double *poly = buf[0], *next = buf[1];
+  for (int i = 0; i < ns; ++i)
+    for (int g = 0; g < 2; ++g)
+    {
+      poly[2 * i + g] = s[2 * i + g] - centre[g];
+      size = s2s_max_nan(size, fabs(poly[2 * i + g]));
+    }
+  for (int i = 0; i < nc; ++i)
+    for (int g = 0; g < 2; ++g)
+    {
+      clip[2 * i + g] = c[2 * i + g] - centre[g];
+      size = s2s_max_nan(size, fabs(clip[2 * i + g]));
+    }
+  const double tol = round_off * size;
+  if (s2s_signed_area(poly, ns) < 0.0)
+    s2s_reverse(poly, ns);
+  if (s2s_signed_area(clip, nc) < 0.0)
+    s2s_reverse(clip, nc);
+  if (!(s2s_signed_area(clip, nc) > tol * size))
+    return 0;
+  int n = ns;
+  for (int k = 0; k < nc; ++k)
+  {
+    const double *a = clip + 2 * k, *b = clip + 2 * ((k + 1) % nc);
+    double e0 = b[0] - a[0], e1 = b[1] - a[1];
+    double length = hypot(e0, e1);
+    if (length <= tol)
+      continue;
+    int inside = 0, outside = 0;
+    for (int i = 0; i < n; ++i)
+    {
+      double di = (e0 * (poly[2 * i + 1] - a[1]) - e1 * (poly[2 * i] - a[0])) / length;
+      /* Within round-off of the edge's line: on it, so shared edges leave no sliver. */
+      if (fabs(di) <= tol)
+        di = 0.0;
+      d[i] = di;
+      inside |= di > 0.0;
+      outside |= di < 0.0;
+    }
+    if (!inside)
+      return 0;
+    if (!outside)
+      continue;
+    int m = 0;
+    for (int i = 0; i < n; ++i)
+    {
+      int j = (i + 1) % n;
+      int crossing = (d[i] > 0.0 && d[j] < 0.0) || (d[i] < 0.0 && d[j] > 0.0);
+      if (m + (d[i] >= 0.0) + crossing > S2S_POLY_CAPACITY)
+        return -1;
+      if (d[i] >= 0.0)
+      {
+        next[2 * m] = poly[2 * i];
+        next[2 * m + 1] = poly[2 * i + 1];
+        ++m;
+      }
+      if (crossing)
+      {
+        double t = d[i] / (d[i] - d[j]);
+        next[2 * m] = poly[2 * i] + t * (poly[2 * j] - poly[2 * i]);
+        next[2 * m + 1] = poly[2 * i + 1] + t * (poly[2 * j + 1] - poly[2 * i + 1]);
+        ++m;
+      }
+    }
+    double *swap = poly;
+    poly = next;
+    next = swap;
+    n = m;
+  }
+  /* Merge coinciding consecutive vertices, each compared with its predecessor in the
+   * polygon before merging (as the reference's vectorized test does). */
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    int h = (i + n - 1) % n;
+    double dx = poly[2 * i] - poly[2 * h], dy = poly[2 * i + 1] - poly[2 * h + 1];
+    if (sqrt(dx * dx + dy * dy) > tol)
+    {
+      next[2 * m] = poly[2 * i];
+      next[2 * m + 1] = poly[2 * i + 1];
+      ++m;
+    }
+  }
+  if (m < 3 || !(s2s_signed_area(next, m) > tol * size))
+    return 0;
+  if (m > width)
+    return -1;
+  for (int i = 0; i < m; ++i)
+  {
+    out[2 * i] = next[2 * i] + centre[0];
+    out[2 * i + 1] = next[2 * i + 1] + centre[1];
+  }
+  return m;
+}
+
+int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_counts,
+                      const double *clip, int mc, const int32_t *clip_counts, int P,
+                      double round_off, int width, double *out, int32_t *counts)
+{
+  int failed = 0;
+  for (int p = 0; p < P; ++p)
+  {
+    double *o = out + (int64_t)p * width * 2;
+    for (int i = 0; i < 2 * width; ++i)
+      o[i] = 0.0;
+    counts[p] = s2s_clip_one(subject + (int64_t)p * ms * 2, subject_counts[p],
+                             clip + (int64_t)p * mc * 2, clip_counts[p], round_off, width, o);
+    if (counts[p] < 0)
+    {
+      for (int i = 0; i < 2 * width; ++i)
+        o[i] = 0.0;
+      ++failed;
+    }
+  }
+  return failed;
+}
+
+int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *counts, int P,
+                                 double round_off, double *triangles, int32_t *owner)
+{
+  int64_t T = 0;
+  double rel[2 * S2S_POLY_CAPACITY];
+  for (int p = 0; p < P; ++p)
+  {
+    const double *v = polygons + (int64_t)p * m * 2;
+    int n = counts[p];
+    if (n < 3)
+      continue;
+    double centre[2], size = 0.0;
+    s2s_vertex_mean(v, n, centre);
+    for (int i = 0; i < 2 * n; ++i)
+    {
+      rel[i] = v[i] - centre[i % 2];
+      size = s2s_max_nan(size, fabs(rel[i]));
+    }
+    /* pow, as NumPy's scalar size**2, not size * size: the same rounding as the reference. */
+    const double flat = round_off * pow(size, 2.0);
+    for (int i = 0; i < n; ++i)
+    {
+      const double *a = rel + 2 * i, *b = rel + 2 * ((i + 1) % n);
+      /* Fan triangles on edges of round-off length (repeated vertices) are flat. */
+      if (!(0.5 * (a[0] * b[1] - a[1] * b[0]) > flat))
+        continue;
+      double *t = triangles + T * 6;
+      t[0] = 0.0 + centre[0];
+      t[1] = 0.0 + centre[1];
+      t[2] = a[0] + centre[0];
+      t[3] = a[1] + centre[1];
+      t[4] = b[0] + centre[0];
+      t[5] = b[1] + centre[1];
+      owner[T++] = p;
+    }
+  }
+  return T;
+}

@@ -31,11 +31,13 @@ from dolfinx_contact_s2s.kernels.numpy_backend import FACET_DIM, NEWTON_TOL, ROU
 
 __all__ = [
     "FACET_DIM",
+    "MAX_POLYGON_VERTICES",
     "NEWTON_TOL",
     "ROUND_OFF",
     "bounding_boxes",
     "cache_dir",
     "cell_normals",
+    "clip_polygons",
     "clip_segments",
     "coo_to_csr",
     "evaluate",
@@ -47,6 +49,7 @@ __all__ = [
     "project",
     "segment_to_segment",
     "shift",
+    "triangulate_polygons",
 ]
 
 _Array = npt.NDArray[np.float64]
@@ -78,7 +81,16 @@ void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation,
 void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, double *out);
 int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
                        const double *values, int64_t *indptr, int64_t *indices, double *data);
+int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_counts,
+                      const double *clip, int mc, const int32_t *clip_counts, int P,
+                      double round_off, int width, double *out, int32_t *counts);
+int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *counts, int P,
+                                 double round_off, double *triangles, int32_t *owner);
 """
+
+#: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C
+#: kernel's fixed working arrays: no allocation per pair).
+MAX_POLYGON_VERTICES = 32
 
 #: Compiler flags; no contraction into fused multiply-adds, so the results round
 #: like the NumPy backend's.
@@ -425,3 +437,68 @@ def coo_to_csr(
     if nnz < 0:
         raise ValueError("row index out of range")
     return indptr, indices[:nnz].copy(), data[:nnz].copy()
+
+
+def _polygons(polygons, counts, name: str) -> tuple[_Array, npt.NDArray[np.int32]]:
+    """Padded polygons ``(P, m, 2)`` and their vertex counts (all ``m`` if None), checked."""
+    v = _f64(polygons)
+    if v.ndim != 3 or v.shape[2] != 2:
+        raise ValueError(f"{name} must be padded polygons (P, m, 2), not {v.shape}")
+    n = np.full(v.shape[0], v.shape[1], dtype=np.int32) if counts is None else _i32(counts)
+    if n.shape != v.shape[:1] or (n.size and (n.min() < 0 or n.max() > v.shape[1])):
+        raise ValueError(f"{name} counts must be ({v.shape[0]},) in [0, {v.shape[1]}]")
+    return v, n
+
+
+def clip_polygons(
+    subject: _Array,
+    clip: _Array,
+    subject_counts: npt.NDArray[np.int32] | None = None,
+    clip_counts: npt.NDArray[np.int32] | None = None,
+    round_off: float = ROUND_OFF,
+) -> tuple[_Array, npt.NDArray[np.int32]]:
+    """See :func:`~dolfinx_contact_s2s.kernels.clipping.clip_polygons` (Fig. 15(b)).
+
+    The C kernel repeats :func:`~dolfinx_contact_s2s.kernels.clipping.clip_convex`
+    operation by operation (its sums in NumPy's order), so the vertices agree to the
+    last bit. At most :data:`MAX_POLYGON_VERTICES` vertices in ``m_s + m_c``.
+    """
+    ffi, lib = _lib()
+    subject, ns = _polygons(subject, subject_counts, "subject")
+    clip, nc = _polygons(clip, clip_counts, "clip")
+    P, ms, mc = subject.shape[0], subject.shape[1], clip.shape[1]
+    if clip.shape[0] != P:
+        raise ValueError(f"{P} subject polygons but {clip.shape[0]} clip polygons")
+    if ms + mc > MAX_POLYGON_VERTICES:
+        raise ValueError(f"at most {MAX_POLYGON_VERTICES} vertices in both polygons, not {ms + mc}")
+    out = np.empty((P, ms + mc, 2))
+    counts = np.empty(P, dtype=np.int32)
+    failed = lib.s2s_clip_polygons(
+        _ptr(ffi, subject), ms, _ptr(ffi, ns, "int32_t *"), _ptr(ffi, clip), mc,
+        _ptr(ffi, nc, "int32_t *"), P, float(round_off), ms + mc, _ptr(ffi, out),
+        _ptr(ffi, counts, "int32_t *"),
+    )  # fmt: skip
+    if failed:
+        raise ValueError(
+            f"pair {np.flatnonzero(counts < 0)[0]}: the overlap has more than {ms + mc} "
+            f"vertices ({failed} pairs): the polygons are not convex"
+        )
+    return out, counts
+
+
+def triangulate_polygons(
+    polygons: _Array, counts: npt.NDArray[np.int32] | None = None, round_off: float = ROUND_OFF
+) -> tuple[_Array, npt.NDArray[np.int32]]:
+    """See :func:`~dolfinx_contact_s2s.kernels.clipping.triangulate_polygons`."""
+    ffi, lib = _lib()
+    polygons, n = _polygons(polygons, counts, "polygon")
+    P, m = polygons.shape[:2]
+    if m > 2 * MAX_POLYGON_VERTICES:
+        raise ValueError(f"at most {2 * MAX_POLYGON_VERTICES} vertices a polygon, not {m}")
+    triangles = np.empty((P * m, 3, 2))
+    owner = np.empty(P * m, dtype=np.int32)
+    T = lib.s2s_triangulate_polygons(
+        _ptr(ffi, polygons), m, _ptr(ffi, n, "int32_t *"), P, float(round_off),
+        _ptr(ffi, triangles), _ptr(ffi, owner, "int32_t *"),
+    )  # fmt: skip
+    return triangles[:T].copy(), owner[:T].copy()

@@ -29,33 +29,45 @@ Reference coordinates are Basix's: the triangle :math:`\{\xi_1, \xi_2 \ge 0,
 \xi_1 + \xi_2 \le 1\}`, the square :math:`[0, 1]^2`.
 
 This is the NumPy reference: the geometry and the Newton solves are vectorized over
-points and pairs, the clipping is a Python loop over the facing candidate pairs (about
-0.1 ms a pair: 27 ms for the 216 pairs of 18 triangles against 12 rectangles); a
-compiled version belongs beside the C kernels. Sutherland-Hodgman needs convex polygons:
-a quadrilateral whose projected corners are not convex (a badly warped or folded face)
-is not detected here.
+points and pairs; the clipping and triangulation, on the plane polygons, are those of
+:mod:`~dolfinx_contact_s2s.kernels.clipping` (a Python loop over the facing pairs, about
+0.1 ms a pair), or the compiled ones of :mod:`~dolfinx_contact_s2s.kernels.c_backend`
+(the same results) when :func:`overlap_rule` is given that module as ``backend``.
+Sutherland-Hodgman needs convex polygons: a quadrilateral whose projected corners are
+not convex (a badly warped or folded face) is not detected here.
 """
 
 from __future__ import annotations
 
 import functools
+import types
 from dataclasses import dataclass
 
 import basix
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.kernels import clipping as _clipping
+from dolfinx_contact_s2s.kernels.clipping import (
+    clip_convex,
+    clip_polygons,
+    signed_area,
+    triangulate,
+    triangulate_polygons,
+)
 from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
 
 __all__ = [
     "FACE_ELEMENTS",
     "OverlapRule",
     "clip_convex",
+    "clip_polygons",
     "evaluate",
     "intersect",
     "overlap_rule",
     "project_faces",
     "triangulate",
+    "triangulate_polygons",
 ]
 
 _Array = npt.NDArray[np.float64]
@@ -282,103 +294,9 @@ def project_faces(
     c_poly = np.einsum("pmg,pdg->pmd", cc, frame[:, :2])
     t_poly = np.einsum("pmg,pdg->pmd", tc, frame[:, :2])
     for poly in (c_poly, t_poly):
-        clockwise = _signed_area(poly) < 0.0
+        clockwise = signed_area(poly) < 0.0
         poly[clockwise] = poly[clockwise, ::-1]
     return origin, frame, c_poly, t_poly, facing
-
-
-def _signed_area(poly: _Array) -> _Array:
-    """Signed areas of polygons ``(..., m, 2)`` (positive counter-clockwise)."""
-    x, y = poly[..., 0], poly[..., 1]
-    return 0.5 * np.sum(x * np.roll(y, -1, axis=-1) - np.roll(x, -1, axis=-1) * y, axis=-1)
-
-
-def clip_convex(subject: _Array, clip: _Array, round_off: float = ROUND_OFF) -> _Array:
-    r"""The overlap of two convex polygons in the plane (Sutherland-Hodgman).
-
-    ``subject`` is cut by the half-plane to the left of each edge of ``clip``. A vertex
-    closer to an edge's line than ``round_off`` times the polygons' size is taken to lie
-    on it, so shared edges and vertices give no slivers; consecutive vertices closer
-    than that are merged. Either orientation is accepted.
-
-    Args:
-        subject: Vertices of a convex polygon, ``(m, 2)``.
-        clip: Vertices of a convex polygon, ``(k, 2)``.
-        round_off: Relative round-off of the coordinates.
-
-    Returns:
-        The vertices of the overlap, counter-clockwise, ``(r, 2)``; ``(0, 2)`` when the
-        polygons are disjoint or overlap in no area (a shared edge or vertex, or a
-        polygon of zero area).
-    """
-    subject = np.asarray(subject, dtype=np.float64).reshape(-1, 2)
-    clip = np.asarray(clip, dtype=np.float64).reshape(-1, 2)
-    empty = np.zeros((0, 2))
-    if subject.shape[0] < 3 or clip.shape[0] < 3:
-        return empty
-    centre = clip.mean(axis=0)
-    subject, clip = subject - centre, clip - centre
-    size = max(np.max(np.abs(subject)), np.max(np.abs(clip)))
-    tol = round_off * size
-    if _signed_area(subject) < 0.0:
-        subject = subject[::-1]
-    if _signed_area(clip) < 0.0:
-        clip = clip[::-1]
-    if not _signed_area(clip) > tol * size:
-        return empty
-    poly = subject
-    for a, b in zip(clip, np.roll(clip, -1, axis=0), strict=True):
-        e = b - a
-        length = np.hypot(e[0], e[1])
-        if length <= tol:
-            continue
-        d = (e[0] * (poly[:, 1] - a[1]) - e[1] * (poly[:, 0] - a[0])) / length
-        d[np.abs(d) <= tol] = 0.0
-        if np.all(d <= 0.0):
-            return empty
-        if np.all(d >= 0.0):
-            continue
-        nxt, dn = np.roll(poly, -1, axis=0), np.roll(d, -1)
-        crossing = ((d > 0.0) & (dn < 0.0)) | ((d < 0.0) & (dn > 0.0))
-        s = np.where(crossing, d / np.where(crossing, d - dn, 1.0), 0.0)
-        candidates = np.stack([poly, poly + s[:, None] * (nxt - poly)], axis=1)
-        poly = candidates[np.stack([d >= 0.0, crossing], axis=1)]
-    # Merge coinciding consecutive vertices.
-    keep = np.linalg.norm(poly - np.roll(poly, 1, axis=0), axis=1) > tol
-    poly = poly[keep] if keep.any() else poly[:1]
-    if poly.shape[0] < 3 or not _signed_area(poly) > tol * size:
-        return empty
-    return poly + centre
-
-
-def triangulate(polygon: _Array, round_off: float = ROUND_OFF) -> _Array:
-    r"""Triangles of a convex polygon: a fan from the mean of its vertices.
-
-    The fan from the vertex centroid (inside a convex polygon) gives one triangle per
-    edge, better shaped than the fan from the first vertex, whose triangles are slivers
-    when clipping leaves nearly collinear vertices. The centroid is strictly inside a
-    convex polygon of positive area, so only the triangles on edges of round-off length
-    (repeated vertices) are flat: those of area below ``round_off`` times the polygon's
-    size squared are dropped.
-
-    Args:
-        polygon: Vertices of a convex polygon, counter-clockwise, ``(m, 2)``.
-        round_off: Relative round-off of the coordinates.
-
-    Returns:
-        Vertices of the triangles, counter-clockwise, ``(T, 3, 2)``.
-    """
-    polygon = np.asarray(polygon, dtype=np.float64).reshape(-1, 2)
-    if polygon.shape[0] < 3:
-        return np.zeros((0, 3, 2))
-    centre = polygon.mean(axis=0)
-    rel = polygon - centre
-    nxt = np.roll(rel, -1, axis=0)
-    area = 0.5 * (rel[:, 0] * nxt[:, 1] - rel[:, 1] * nxt[:, 0])
-    size = np.max(np.abs(rel))
-    keep = area > round_off * size**2
-    tris = np.stack([np.zeros_like(rel), rel, nxt], axis=1)[keep]
-    return tris + centre
 
 
 @dataclass(frozen=True)
@@ -433,12 +351,13 @@ def overlap_rule(
     iterations: int = 16,
     tol: float = NEWTON_TOL,
     round_off: float = ROUND_OFF,
+    backend: types.ModuleType | None = None,
 ) -> OverlapRule:
     r"""The composite Gauss rule on the overlaps of candidate face pairs (Eqs. 38-42).
 
     Each pair is drawn in the contactor's plane (:func:`project_faces`); pairs whose
     normals do not oppose are dropped; the overlap of the two corner polygons
-    (:func:`clip_convex`) is cut into triangles (:func:`triangulate`) and Basix's Gauss
+    (:func:`clip_polygons`) is cut into triangles (:func:`triangulate_polygons`) and Basix's Gauss
     rule of the triangle is mapped on each. The points are then pulled back to the
     contactor face along the plane's normal (:func:`intersect`: exact on flat triangles,
     Newton's method on bilinear, warped or curved faces), and the target point of each
@@ -462,6 +381,9 @@ def overlap_rule(
         iterations: Newton iterations at most.
         tol: Relative Newton stopping test.
         round_off: Relative round-off of the coordinates.
+        backend: The module whose ``clip_polygons`` and ``triangulate_polygons`` cut the
+            overlaps: None for this module's (NumPy), or
+            :mod:`~dolfinx_contact_s2s.kernels.c_backend` once loaded (the same rule).
 
     Returns:
         The rule on the sub-triangles of all overlaps.
@@ -475,14 +397,13 @@ def overlap_rule(
     origin, frame, c_poly, t_poly, facing = project_faces(
         c_nodes, c_orientation, t_nodes, t_orientation, ic, it, round_off
     )
-    tris, pairs = [np.zeros((0, 3, 2))], [np.zeros(0, dtype=np.int32)]
-    for p in np.flatnonzero(facing):
-        piece = clip_convex(t_poly[p], c_poly[p], round_off)
-        if piece.shape[0]:
-            triangles = triangulate(piece, round_off)
-            tris.append(triangles)
-            pairs.append(np.full(triangles.shape[0], p, dtype=np.int32))
-    triangles, pair = np.concatenate(tris), np.concatenate(pairs)
+    kernels = backend if backend is not None else _clipping
+    facing_pairs = np.flatnonzero(facing).astype(np.int32)
+    pieces, counts = kernels.clip_polygons(
+        t_poly[facing_pairs], c_poly[facing_pairs], round_off=round_off
+    )
+    triangles, owner = kernels.triangulate_polygons(pieces, counts, round_off)
+    pair = facing_pairs[owner]
     X, W = basix.make_quadrature(basix.CellType.triangle, degree)
     # The affine map of the reference triangle onto each sub-triangle; |det| = 2 area.
     a = triangles[:, 0]
