@@ -50,7 +50,7 @@ from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
 from dolfinx_contact_s2s.quadrature import RULES, interval_rule, triangle_rule
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
-from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
     "METHODS",
@@ -195,6 +195,8 @@ class ContactPair:
         targets = [t for t in targets if not getattr(t, "analytic", False)]
         if self.obstacles and method in ("node-to-node", "intermediate-surface"):
             raise ValueError(f"{method} needs target nodes: analytic obstacles have none")
+        if self.obstacles and contactor.facet_dim == 2:
+            raise NotImplementedError("analytic obstacles are implemented for 2D meshes only")
         for target in targets:
             if contactor is target or (
                 contactor.V.mesh is target.V.mesh and contactor.tag == target.tag
@@ -231,18 +233,6 @@ class ContactPair:
         if quadrature not in RULES:
             raise ValueError(f"unknown quadrature {quadrature!r}; choose from {RULES}")
         self.quadrature = quadrature
-        if contactor.facet_dim == 2 and (
-            method != "segment-to-segment"
-            or quadrature != "composite-gauss"
-            or multiplier
-            or self.obstacles
-        ):
-            raise NotImplementedError(
-                "on the faces of 3D meshes: method='segment-to-segment' with the "
-                "composite-gauss rule and its default multiplier, against meshed targets, "
-                f"only (got method={method!r}, quadrature={quadrature!r}, "
-                f"multiplier={multiplier!r}, {len(self.obstacles)} analytic obstacles)"
-            )
 
         k_c = contactor.element.degree
         family, degree = ("Lagrange", k_c) if multiplier is None else multiplier
@@ -296,13 +286,6 @@ class ContactPair:
         self.Q = self.multiplier.Q
         self.multiplier_element = self.multiplier.element
         self.submesh = self.Q.mesh
-        # The multiplier basis H^k (Eq. 42) on edges as polynomials in its cell's parameter
-        # s; on faces it is tabulated at the points (MultiplierSpace.reference_points).
-        self._multiplier_table = (
-            facet_monomials(self.multiplier_element, np.zeros((1, 1)), np.ones((1, 1)))
-            if contactor.facet_dim == 1
-            else None
-        )
         gathered = [t.gather() for t in targets] if discretization.nodal else []
         self.duplicates = discretization.duplicates(self, gathered)
 
@@ -434,13 +417,7 @@ class ContactPair:
         x_t, _ = kernels.evaluate(t_local, local, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
-        if self._multiplier_table is None:
-            mu = self.multiplier.basis(rows_c, xi)
-        else:
-            s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)
-            mu = kernels.facet_basis(
-                self._multiplier_table, np.zeros(s_sub.size, np.int32), s_sub
-            )
+        mu = self.multiplier.basis(rows_c, xi, kernels)
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
         phi_c, phi_t = cs.facet_basis(C, rows_c, xi), ts.facet_basis(T, rows_t, eta)

@@ -27,24 +27,11 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
+from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap, tabulate
 from dolfinx_contact_s2s.kernels import get_backend
+from dolfinx_contact_s2s.kernels.numpy_backend import DEGENERATE_TOLERANCE
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "facet_monomials", "tabulate"]
-
-
-def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
-    """Tabulate a scalar Basix-UFL element, also at zero points.
-
-    Returns:
-        Array ``(num_derivatives, num_points, num_dofs)``.
-    """
-    X = np.ascontiguousarray(X, dtype=np.float64)
-    if X.shape[0] == 0:
-        tdim = X.shape[1]
-        count = (derivatives + 1) if tdim == 1 else (derivatives + 1) * (derivatives + 2) // 2
-        return np.zeros((count, 0, element.dim))
-    return element.tabulate(derivatives, X)
 
 
 def facet_monomials(
@@ -489,10 +476,6 @@ def _cpp(obj):
 #: Regions of :meth:`ContactSurface.gather_near` kept per surface (one per pair that
 #: shares the surface as a target, in the scenes of this package).
 NEAR_REGIONS = 4
-
-#: A contact facet whose chord is shorter than this fraction of its cell's extent is
-#: degenerate (two nodes coincide): it has no normal.
-DEGENERATE_TOLERANCE = 1e-12
 
 
 def _check_geometry(

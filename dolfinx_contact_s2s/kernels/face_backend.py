@@ -75,7 +75,7 @@ def evaluate(
 
 
 def outward_normals(coefficients: _Array, orientation: _Array, rows: _Rows, xi: _Array) -> _Array:
-    r"""Unit outward normals: the orientation sign times :math:`\partial_1 x \times \partial_2 x`."""
+    r"""Unit outward normals: the orientation times :math:`\partial_1 x \times \partial_2 x`."""
     _, dx = evaluate(coefficients, rows, xi)
     n = np.cross(dx[:, :, 0], dx[:, :, 1])
     n /= np.linalg.norm(n, axis=1, keepdims=True)
