@@ -470,6 +470,11 @@ class PolygonSegmentation:
         C, T = contactor, target
         ic = np.asarray(ic, dtype=np.int32)
         it = np.asarray(it, dtype=np.int32)
+        if ic.size == 0:  # A process without candidates (or without contactor faces).
+            none = np.zeros(0, dtype=np.int32)
+            return PolygonPieces(
+                none, none, np.zeros((0, 3, 2)), np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0)
+            )
         origin, frame, c_poly, t_poly, facing = polygon.project_faces(
             C.nodes, C.orientation, T.nodes, T.orientation, ic, it
         )
@@ -517,6 +522,8 @@ class PolygonSegmentation:
         plane = a[:, None] + X[None, :, :1] * ab[:, None] + X[None, :, 1:] * ac[:, None]
         det = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
         S, Q = len(pieces), W.size
+        if S == 0:
+            return np.zeros((0, Q, 2)), np.zeros((0, Q))
         x = pieces.origin[:, None] + np.einsum("sqd,sdg->sqg", plane, pieces.frame[:, :2])
         rows = np.repeat(pieces.contactor, Q)
         xi, _, ratio = _pull_back(

@@ -16,6 +16,7 @@ import pytest
 
 from dolfinx_contact_s2s.compat import geometry_dofmap, gmsh_model_to_mesh
 from dolfinx_contact_s2s.faces import (
+    FaceData,
     PolygonSegmentation,
     face_boxes,
     face_data,
@@ -287,3 +288,102 @@ def test_zero_area_face_raises_on_every_rank():
     x[top, 0] = 0.5 * x[top, 0] + 0.25
     with pytest.raises(ValueError, match="zero area"):
         face_data(V, tags, 6)
+
+
+def gmsh_two_blocks(order: int):
+    """One Gmsh model of two touching, independently meshed tetrahedral blocks.
+
+    Lower [0,1]^2 x [0,1] (size 1/3, top tag 2), upper [0,1]^2 x [1,2] (size 1/4,
+    bottom tag 1); the boxes are not fragmented, so the meshes do not match at z = 1.
+    """
+    import gmsh
+
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        if COMM.rank == 0:
+            gmsh.model.add("blocks")
+            lower = gmsh.model.occ.addBox(0.0, 0.0, 0.0, 1.0, 1.0, 1.0)
+            upper = gmsh.model.occ.addBox(0.0, 0.0, 1.0, 1.0, 1.0, 1.0)
+            gmsh.model.occ.synchronize()
+            gmsh.model.addPhysicalGroup(3, [lower], 1)
+            gmsh.model.addPhysicalGroup(3, [upper], 2)
+            for volume, z, tag, size in ((lower, 1.0, 2, 1.0 / 3.0), (upper, 1.0, 1, 0.25)):
+                _, surfaces = gmsh.model.getAdjacencies(3, volume)
+                face = [
+                    s for s in surfaces if np.isclose(gmsh.model.occ.getCenterOfMass(2, s)[2], z)
+                ]
+                gmsh.model.addPhysicalGroup(2, face, tag)
+                points = gmsh.model.getBoundary([(3, volume)], recursive=True)
+                gmsh.model.mesh.setSize(points, size)
+            gmsh.model.mesh.generate(3)
+            gmsh.model.mesh.setOrder(order)
+        mesh, _, facet_tags = gmsh_model_to_mesh(gmsh.model, COMM, 0, gdim=3)
+    finally:
+        gmsh.finalize()
+    return mesh, facet_tags
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_gmsh_two_bodies_patch_identity(order):
+    """Area and Eq. (36)'s row and column sums on a Gmsh two-body model (P1, P2 geometry)."""
+    mesh, tags = gmsh_two_blocks(order)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", order, (3,)))
+    C = face_data(V, tags, 1)
+    T = gather_faces(face_data(V, tags, 2), COMM)
+    assert C.nodes.shape[1] == T.nodes.shape[1] == (3 if order == 1 else 6)
+    seg = PolygonSegmentation()
+    radius = 0.1
+    ic, it = box_pairs(seg.sweep(C, face_boxes(C), radius), face_boxes(T))
+    pieces = seg.cut(C, T, ic, it, radius)
+    X, W = basix.make_quadrature(basix.CellType.triangle, 2)
+    xi, w = seg.points(C, pieces, (X, W))
+    assert abs(COMM.allreduce(float(w.sum())) - 1.0) <= 1e-13
+    S, Q = w.shape
+    rows_c = np.repeat(pieces.contactor, Q)
+    x_c, dx = polygon.evaluate(C.nodes, rows_c, xi.reshape(-1, 2))
+    normals = np.cross(dx[:, :, 0], dx[:, :, 1]) * C.orientation[rows_c, None]
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    eta, _ = polygon.intersect(T.nodes, np.repeat(pieces.target, Q), x_c, normals)
+    # The corner (vertex) functions of the flat faces: P1 on the corner nodes.
+    phi = p1_basis(3, xi.reshape(-1, 2)).reshape(S, Q, 3)
+    psi = p1_basis(3, eta).reshape(S, Q, 3)
+    M = np.einsum("sq,sqi,sqj->sij", w, phi, psi)
+    rows = np.zeros((len(C), 3))
+    np.add.at(rows, pieces.contactor, M.sum(axis=2))
+    cols = np.zeros((len(T), 3))
+    np.add.at(cols, pieces.target, M.sum(axis=1))
+    cols = COMM.allreduce(cols)
+    assert np.max(np.abs(rows - flat_area(C.nodes[:, :3])[:, None] / 3.0), initial=0.0) <= 1e-13
+    assert np.max(np.abs(cols - flat_area(T.nodes[:, :3])[:, None] / 3.0), initial=0.0) <= 1e-13
+
+
+@pytest.mark.parametrize("lower, upper", [("hexahedron", "tetrahedron")])
+def test_points_agree_with_overlap_rule(lower, upper):
+    """PolygonSegmentation.points and kernels.polygon.overlap_rule give one rule."""
+    C, local_target = blocks(lower, upper, 3, 4, 1)
+    T = gather_faces(local_target, COMM)
+    seg = PolygonSegmentation()
+    ic, it = box_pairs(seg.sweep(C, face_boxes(C), 0.1), face_boxes(T))
+    pieces = seg.cut(C, T, ic, it, 0.1)
+    xi, w = seg.points(C, pieces, basix.make_quadrature(basix.CellType.triangle, 3))
+    rule = polygon.overlap_rule(C.nodes, C.orientation, T.nodes, T.orientation, ic, it, 3)
+    assert np.array_equal(pieces.contactor, rule.contactor)
+    assert np.array_equal(pieces.target, rule.target)
+    assert np.max(np.abs(xi - rule.xi), initial=0.0) <= 1e-14
+    assert np.max(np.abs(w - rule.surface_weights), initial=0.0) <= 1e-15
+
+
+def test_no_faces_and_no_facing_pairs_give_no_pieces():
+    """A process without contactor faces, and a pair facing the same way, cut to nothing."""
+    seg = PolygonSegmentation()
+    rule = basix.make_quadrature(basix.CellType.triangle, 2)
+    none = np.zeros(0, dtype=np.int32)
+    empty = FaceData(np.zeros((0, 3, 3)), none, none, none, np.zeros((0, 12), np.int64), none)
+    ic, it = box_pairs(seg.sweep(empty, face_boxes(empty), 0.1), face_boxes(empty))
+    pieces = seg.cut(empty, empty, ic, it, 0.1)
+    assert len(pieces) == 0 and seg.points(empty, pieces, rule)[0].shape == (0, 3, 2)
+    one = np.zeros(1, dtype=np.int32)
+    nodes = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    face = FaceData(nodes, one, one, one, np.zeros((1, 12), np.int64), np.ones(1))
+    assert len(seg.cut(face, face, one, one, 0.1)) == 0
