@@ -220,6 +220,7 @@ class ContactPair:
         # Caches of :meth:`swept_boxes` and :meth:`multiplier_integrals`.
         self._swept: tuple[SurfaceData, npt.NDArray[np.floating]] | None = None
         self._multiplier_integrals: npt.NDArray[np.floating] | None = None
+        self._multiplier_squares: npt.NDArray[np.floating] | None = None
         if drop_coincident and not discretization.drops_coincident:
             raise ValueError("drop_coincident applies to node-to-segment only")
         self.contactor = contactor
@@ -348,6 +349,25 @@ class ContactPair:
             self._multiplier_integrals = integrals
         return self._multiplier_integrals
 
+    def multiplier_supports(self) -> npt.NDArray[np.floating]:
+        r"""What a multiplier's coverage is compared with to call it uncovered (collective).
+
+        On edges :meth:`multiplier_integrals`; on faces :math:`\int \mu_k^2` (the diagonal
+        of the multiplier mass), since a P2 vertex function of a triangle has
+        :math:`\int \mu_k = 0`. Owned dofs.
+        """
+        if self.contactor.facet_dim == 1:
+            return self.multiplier_integrals()
+        if self._multiplier_squares is None:
+            Q = self.Q
+            mu, nu = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+            mass = dolfinx.fem.assemble_matrix(dolfinx.fem.form(mu * nu * ufl.dx))
+            mass.scatter_reverse()
+            squares = mass.to_scipy().diagonal()[: Q.dofmap.index_map.size_local]
+            squares.setflags(write=False)
+            self._multiplier_squares = squares
+        return self._multiplier_squares
+
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
 
@@ -430,8 +450,9 @@ class ContactPair:
             gaps.reshape(S, nq),
         )
         # Whether mu_k faces a target is a property of its support: the plain weights (a
-        # P2 vertex function on the axis has a zero r-weighted integral).
-        coverage = np.einsum("sqk,sq->sk", mu, g.weights)
+        # P2 vertex function on the axis has a zero r-weighted integral), and on faces its
+        # square (a P2 vertex function of a triangle integrates to zero).
+        coverage = np.einsum("sqk,sq->sk", mu**2 if cs.facet_dim == 2 else mu, g.weights)
         return CouplingBlocks(
             ts, g.rows, C.dofs[g.contactor], b_c, T.dofs[g.target], b_t, gap, coverage
         )

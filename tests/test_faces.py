@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Faces of 3D DOLFINx meshes as arrays, their boxes and polygonal pieces (issue 21).
+"""Contact surfaces of 3D DOLFINx meshes: face nodes, boxes and polygonal pieces (issue 21).
 
 Expected numbers come from outside the module: DOLFINx's own cell geometry map
 (``cmap.push_forward``), the known outward normals of a box's sides, and closed-form
@@ -14,17 +14,12 @@ import dolfinx
 import numpy as np
 import pytest
 
+from dolfinx_contact_s2s import contact_surface
 from dolfinx_contact_s2s.compat import geometry_dofmap, gmsh_model_to_mesh
-from dolfinx_contact_s2s.faces import (
-    FaceData,
-    PolygonSegmentation,
-    face_boxes,
-    face_data,
-    gather_faces,
-    swept_face_boxes,
-)
 from dolfinx_contact_s2s.kernels import polygon
 from dolfinx_contact_s2s.search import box_pairs
+from dolfinx_contact_s2s.segmentation import PolygonSegmentation
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 COMM = MPI.COMM_WORLD
 EPS = np.finfo(np.float64).eps
@@ -32,6 +27,34 @@ CELLS = {
     "tetrahedron": dolfinx.mesh.CellType.tetrahedron,
     "hexahedron": dolfinx.mesh.CellType.hexahedron,
 }
+
+
+class Faces:
+    """The faces of a contact surface (its own rows or all gathered), by this test's names."""
+
+    def __init__(self, surface: ContactSurface, data: SurfaceData):
+        self.surface, self.data = surface, data
+        self.nodes = data.coefficients
+        self.local_facet, self.dofs, self.orientation = (
+            data.local_facet,
+            data.dofs,
+            data.orientation,
+        )
+        self.cells = surface.cells
+
+    def __len__(self):
+        return len(self.data)
+
+    def boxes(self):
+        return self.surface.bounding_boxes(self.data)
+
+    def gathered(self):
+        return Faces(self.surface, self.surface.gather())
+
+
+def face_data(V, tags, tag):
+    surface = contact_surface(V, tags, tag)
+    return Faces(surface, surface.data)
 
 
 def gmsh_box(cell: str, order: int, n: int = 2):
@@ -188,14 +211,14 @@ def flat_area(nodes):
 def test_two_blocks_patch_identity(lower, upper, degree):
     """Area and the 3D patch-test identity of Eq. (36) on non-matching flat faces."""
     C, local_target = blocks(lower, upper, 3, 4, degree)
-    T = gather_faces(local_target, COMM)
+    T = local_target.gathered()
     assert len(T) == COMM.allreduce(len(local_target))
     seg = PolygonSegmentation()
     radius = 0.1
-    ic, it = box_pairs(seg.sweep(C, face_boxes(C), radius), face_boxes(T))
-    pieces = seg.cut(C, T, ic, it, radius)
+    ic, it = box_pairs(seg.sweep(C.data, C.boxes(), radius), T.boxes())
+    pieces = seg.cut(C.data, T.data, ic, it, radius)
     X, W = basix.make_quadrature(basix.CellType.triangle, 4)
-    xi, w = seg.points(C, pieces, (X, W))
+    xi, w = seg.points(C.data, pieces, (X, W))
     area = COMM.allreduce(float(w.sum()))
     assert abs(area - 1.0) <= 1e-13
 
@@ -228,9 +251,9 @@ def test_boxes_contain_curved_faces(cell):
     mesh, tags = gmsh_box(cell, 2)
     perturb(mesh)
     data = face_data(dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (3,))), tags, 1)
-    boxes = face_boxes(data)
+    boxes = data.boxes()
     radius = 0.07
-    swept = swept_face_boxes(data, boxes, radius)
+    swept = PolygonSegmentation().sweep(data.data, boxes, radius)
     rng = np.random.default_rng(5)
     count = 50
     rows = np.repeat(np.arange(len(data), dtype=np.int32), count)
@@ -248,18 +271,18 @@ def test_boxes_contain_curved_faces(cell):
 def test_missing_tag_raises():
     mesh = dolfinx.mesh.create_unit_cube(COMM, 2, 2, 2, CELLS["tetrahedron"])
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (3,)))
-    with pytest.raises(ValueError, match="no facet of the mesh carries tag 7"):
+    with pytest.raises(ValueError, match="no facet of the mesh carries contact tag 7"):
         face_data(V, boundary_tags(mesh), 7)
 
 
-def test_2d_mesh_raises():
-    mesh = dolfinx.mesh.create_unit_square(COMM, 2, 2)
+def test_wrong_space_raises():
+    mesh = dolfinx.mesh.create_unit_cube(COMM, 2, 2, 2, CELLS["tetrahedron"])
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
-    mesh.topology.create_connectivity(1, 2)
-    facets = dolfinx.mesh.exterior_facet_indices(mesh.topology)
-    tags = dolfinx.mesh.meshtags(mesh, 1, facets, np.full(facets.size, 1, dtype=np.int32))
-    with pytest.raises(ValueError, match="needs a 3D mesh of tetrahedra or hexahedra"):
-        face_data(V, tags, 1)
+    with pytest.raises(ValueError, match="one component per dimension"):
+        face_data(V, boundary_tags(mesh), 1)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 3, (3,)))
+    with pytest.raises(ValueError, match="degree 1 or 2"):
+        face_data(V, boundary_tags(mesh), 1)
 
 
 def test_interior_facet_and_nan_node_raise():
@@ -330,14 +353,14 @@ def test_gmsh_two_bodies_patch_identity(order):
     mesh, tags = gmsh_two_blocks(order)
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", order, (3,)))
     C = face_data(V, tags, 1)
-    T = gather_faces(face_data(V, tags, 2), COMM)
+    T = face_data(V, tags, 2).gathered()
     assert C.nodes.shape[1] == T.nodes.shape[1] == (3 if order == 1 else 6)
     seg = PolygonSegmentation()
     radius = 0.1
-    ic, it = box_pairs(seg.sweep(C, face_boxes(C), radius), face_boxes(T))
-    pieces = seg.cut(C, T, ic, it, radius)
+    ic, it = box_pairs(seg.sweep(C.data, C.boxes(), radius), T.boxes())
+    pieces = seg.cut(C.data, T.data, ic, it, radius)
     X, W = basix.make_quadrature(basix.CellType.triangle, 2)
-    xi, w = seg.points(C, pieces, (X, W))
+    xi, w = seg.points(C.data, pieces, (X, W))
     assert abs(COMM.allreduce(float(w.sum())) - 1.0) <= 1e-13
     S, Q = w.shape
     rows_c = np.repeat(pieces.contactor, Q)
@@ -362,11 +385,11 @@ def test_gmsh_two_bodies_patch_identity(order):
 def test_points_agree_with_overlap_rule(lower, upper):
     """PolygonSegmentation.points and kernels.polygon.overlap_rule give one rule."""
     C, local_target = blocks(lower, upper, 3, 4, 1)
-    T = gather_faces(local_target, COMM)
+    T = local_target.gathered()
     seg = PolygonSegmentation()
-    ic, it = box_pairs(seg.sweep(C, face_boxes(C), 0.1), face_boxes(T))
-    pieces = seg.cut(C, T, ic, it, 0.1)
-    xi, w = seg.points(C, pieces, basix.make_quadrature(basix.CellType.triangle, 3))
+    ic, it = box_pairs(seg.sweep(C.data, C.boxes(), 0.1), T.boxes())
+    pieces = seg.cut(C.data, T.data, ic, it, 0.1)
+    xi, w = seg.points(C.data, pieces, basix.make_quadrature(basix.CellType.triangle, 3))
     rule = polygon.overlap_rule(C.nodes, C.orientation, T.nodes, T.orientation, ic, it, 3)
     assert np.array_equal(pieces.contactor, rule.contactor)
     assert np.array_equal(pieces.target, rule.target)
@@ -379,11 +402,13 @@ def test_no_faces_and_no_facing_pairs_give_no_pieces():
     seg = PolygonSegmentation()
     rule = basix.make_quadrature(basix.CellType.triangle, 2)
     none = np.zeros(0, dtype=np.int32)
-    empty = FaceData(np.zeros((0, 3, 3)), none, none, none, np.zeros((0, 12), np.int64), none)
-    ic, it = box_pairs(seg.sweep(empty, face_boxes(empty), 0.1), face_boxes(empty))
+    empty = SurfaceData(
+        np.zeros((0, 4, 3)), none, np.zeros((0, 12), np.int64), none, np.zeros((0, 3, 3)), none
+    )
+    ic, it = none, none
     pieces = seg.cut(empty, empty, ic, it, 0.1)
     assert len(pieces) == 0 and seg.points(empty, pieces, rule)[0].shape == (0, 3, 2)
     one = np.zeros(1, dtype=np.int32)
     nodes = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
-    face = FaceData(nodes, one, one, one, np.zeros((1, 12), np.int64), np.ones(1))
+    face = SurfaceData(nodes, one, np.zeros((1, 12), np.int64), one, nodes, np.ones(1))
     assert len(seg.cut(face, face, one, one, 0.1)) == 0

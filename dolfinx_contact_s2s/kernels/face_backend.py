@@ -15,6 +15,8 @@ of Eqs. (40)-(42) does not depend on the facet dimension and is shared.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import numpy.typing as npt
 
@@ -100,16 +102,42 @@ def intersect(
 
 
 def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
-    """Axis-aligned boxes ``(F, 2, 3)`` of the faces.
+    r"""Axis-aligned boxes ``(F, 2, 3)`` that contain the faces.
 
-    A flat triangle and a bilinear quadrilateral lie in the convex hull of their corners,
-    so the box of their nodes is exact. A quadratic face can bulge out of its nodes' box
-    (its basis functions change sign): its box is padded by ``pad`` times the face's
-    diameter, as the boxes of curved edges are in 2D. ``samples`` is not used.
+    A P1 or Q1 face lies in the convex hull of its corners (a bilinear quadrilateral is a
+    convex combination of them). A P2 or Q2 face bulges beyond its midside nodes, but
+    lies in the hull of its *Bernstein control points* (the Bernstein polynomials are
+    nonnegative and sum to one): on an edge with ends :math:`a, b` and midside node
+    :math:`m` the control point is :math:`m + (m - (a + b)/2)`. The box of the control
+    points is therefore safe without sampling, and exact for flat faces. ``samples`` and
+    ``pad`` (the sampled boxes of curved edges in 2D) are not used.
     """
-    lower = coefficients.min(axis=1)
-    upper = coefficients.max(axis=1)
-    if coefficients.shape[1] > 4:
-        grow = pad * np.max(upper - lower, axis=1, keepdims=True)
-        lower, upper = lower - grow, upper + grow
-    return np.stack([lower, upper], axis=1)
+    F, K, _ = coefficients.shape
+    if F == 0:
+        return np.zeros((0, 2, 3))
+    control = coefficients
+    if K > 4:
+        face, degree = polygon.FACE_ELEMENTS[K]
+        inverse = np.linalg.inv(_bernstein(face, degree, polygon.face_element(K).points))
+        control = np.einsum("jk,fkg->fjg", inverse, coefficients)
+    return np.stack([control.min(axis=1), control.max(axis=1)], axis=1)
+
+
+def _bernstein(face: str, degree: int, s: _Array) -> _Array:
+    """Bernstein polynomials of a face at points ``s``, ``(P, (degree+1)...)`` in any order."""
+    if face == "triangle":
+        lam = np.stack([1.0 - s[:, 0] - s[:, 1], s[:, 0], s[:, 1]], axis=1)
+        powers = [(i, j, degree - i - j) for i in range(degree + 1) for j in range(degree + 1 - i)]
+        return np.stack(
+            [
+                math.factorial(degree)
+                / (math.factorial(a) * math.factorial(b) * math.factorial(c))
+                * lam[:, 0] ** a
+                * lam[:, 1] ** b
+                * lam[:, 2] ** c
+                for a, b, c in powers
+            ],
+            axis=1,
+        )
+    one = [math.comb(degree, i) * s**i * (1.0 - s) ** (degree - i) for i in range(degree + 1)]
+    return np.stack([u[:, 0] * v[:, 1] for u in one for v in one], axis=1)
