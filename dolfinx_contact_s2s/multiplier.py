@@ -22,6 +22,7 @@ import basix.ufl
 import dolfinx
 import numpy as np
 import numpy.typing as npt
+import ufl
 
 from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities, tabulate
 from dolfinx_contact_s2s.kernels import KernelBackend
@@ -52,6 +53,30 @@ class MultiplierSpace:
     cells: npt.NDArray[np.int32]
     flip: npt.NDArray[np.bool_]
     corners: npt.NDArray[np.floating] | None = None
+
+    @functools.cached_property
+    def integrals(self) -> npt.NDArray[np.floating]:
+        r"""The integrals :math:`|\int \mu_k|` of the owned basis functions (read-only).
+
+        Computed once, collective the first time: ``Q`` lives on a mesh of its own,
+        made with the pair, whose nodes nothing moves.
+        """
+        form = dolfinx.fem.form(ufl.TestFunction(self.Q) * ufl.dx(domain=self.Q.mesh))
+        vector = dolfinx.fem.assemble_vector(form)
+        vector.scatter_reverse(dolfinx.la.InsertMode.add)
+        return _owned(np.abs(vector.array), self.Q)
+
+    @functools.cached_property
+    def squares(self) -> npt.NDArray[np.floating]:
+        r"""The integrals :math:`\int \mu_k^2` of the owned basis functions (read-only).
+
+        The diagonal of the multiplier mass; positive where :attr:`integrals` may vanish
+        (the vertex functions of a P2 triangle). Collective the first time.
+        """
+        mu, nu = ufl.TrialFunction(self.Q), ufl.TestFunction(self.Q)
+        mass = dolfinx.fem.assemble_matrix(dolfinx.fem.form(mu * nu * ufl.dx))
+        mass.scatter_reverse()
+        return _owned(mass.to_scipy().diagonal(), self.Q)
 
     @functools.cached_property
     def edge_table(self) -> npt.NDArray[np.floating]:
@@ -146,3 +171,10 @@ def cell_rows(space: MultiplierSpace, c_rows: npt.NDArray[np.int32]) -> npt.NDAr
     local = qmap.list[space.cells[c_rows]]
     rows = qmap.index_map.local_to_global(local.reshape(-1)).reshape(local.shape)
     return rows.astype(np.int64)
+
+
+def _owned(values: npt.NDArray[np.floating], Q: dolfinx.fem.FunctionSpace) -> npt.NDArray:
+    """A read-only copy of the owned entries of ``values``."""
+    owned = np.array(values[: Q.dofmap.index_map.size_local])
+    owned.setflags(write=False)
+    return owned

@@ -36,10 +36,8 @@ from dataclasses import dataclass
 
 from mpi4py import MPI
 
-import dolfinx
 import numpy as np
 import numpy.typing as npt
-import ufl
 
 from dolfinx_contact_s2s.axisymmetry import (
     check_axis_surface,
@@ -217,10 +215,8 @@ class ContactPair:
             raise ValueError("weight must be 'unit' or 'tributary'")
         discretization = DISCRETIZATIONS[method](method)
         self.segmentation = get_segmentation(contactor.facet_dim)
-        # Caches of :meth:`swept_boxes` and :meth:`multiplier_integrals`.
+        # Cache of :meth:`swept_boxes`.
         self._swept: tuple[SurfaceData, npt.NDArray[np.floating]] | None = None
-        self._multiplier_integrals: npt.NDArray[np.floating] | None = None
-        self._multiplier_squares: npt.NDArray[np.floating] | None = None
         if drop_coincident and not discretization.drops_coincident:
             raise ValueError("drop_coincident applies to node-to-segment only")
         self.contactor = contactor
@@ -333,40 +329,23 @@ class ContactPair:
     def multiplier_integrals(self) -> npt.NDArray[np.floating]:
         r"""The integrals :math:`|\int \mu_k|` of the owned multiplier basis functions.
 
-        Computed once (collective the first time): the multiplier space lives on a mesh
-        of its own, made with the pair, whose nodes nothing moves. Without the ring
+        Collective the first time (:attr:`MultiplierSpace.integrals`). Without the ring
         weight also in axisymmetry: they measure the support of :math:`\mu_k` (is it
         covered by a target?), and a P2 vertex function on the axis has
         :math:`\int \mu_k\, 2\pi r\, ds = 0`.
         """
-        if self._multiplier_integrals is None:
-            Q = self.Q
-            form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
-            vector = dolfinx.fem.assemble_vector(form)
-            vector.scatter_reverse(dolfinx.la.InsertMode.add)
-            integrals = np.abs(vector.array[: Q.dofmap.index_map.size_local])
-            integrals.setflags(write=False)
-            self._multiplier_integrals = integrals
-        return self._multiplier_integrals
+        return self.multiplier.integrals
 
     def multiplier_supports(self) -> npt.NDArray[np.floating]:
         r"""What a multiplier's coverage is compared with to call it uncovered (collective).
 
-        On edges :meth:`multiplier_integrals`; on faces :math:`\int \mu_k^2` (the diagonal
-        of the multiplier mass), since a P2 vertex function of a triangle has
-        :math:`\int \mu_k = 0`. Owned dofs.
+        On edges :meth:`multiplier_integrals`; on faces :math:`\int \mu_k^2`
+        (:attr:`MultiplierSpace.squares`), since a P2 vertex function of a triangle has
+        :math:`\int \mu_k = 0`.
         """
-        if self.contactor.facet_dim == 1:
-            return self.multiplier_integrals()
-        if self._multiplier_squares is None:
-            Q = self.Q
-            mu, nu = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-            mass = dolfinx.fem.assemble_matrix(dolfinx.fem.form(mu * nu * ufl.dx))
-            mass.scatter_reverse()
-            squares = mass.to_scipy().diagonal()[: Q.dofmap.index_map.size_local]
-            squares.setflags(write=False)
-            self._multiplier_squares = squares
-        return self._multiplier_squares
+        return (
+            self.multiplier.integrals if self.contactor.facet_dim == 1 else self.multiplier.squares
+        )
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
