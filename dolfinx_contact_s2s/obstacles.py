@@ -101,6 +101,9 @@ class RigidSurface(ContactSurface):
     ):
         """See :func:`rigid_surface`."""
         gdim = mesh.geometry.dim
+        if mesh.topology.dim != 2:
+            # The prescribed motion is a plane one: a translation and one angle.
+            raise NotImplementedError("rigid surfaces are implemented for 2D meshes only")
         if degree is None:
             degree = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element()).degree
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (gdim,)))

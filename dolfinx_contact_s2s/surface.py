@@ -13,7 +13,10 @@ Facets are parametrised by :math:`\xi \in [0, 1]` along the straight reference
 facet, :math:`X(\xi) = X_a + \xi (X_b - X_a)`, where :math:`X_a, X_b` are the
 reference vertices of the facet in Basix numbering; the physical facet is the
 image of that segment under the cell's coordinate map, so quadratic (curved)
-geometry is handled exactly.
+geometry is handled exactly. Faces of 3D cells (tetrahedra, hexahedra) are parametrised
+by the reference coordinates :math:`(\xi_1, \xi_2)` of Basix's Lagrange element on the
+face, and their geometry is their nodes in that element's order
+(:mod:`dolfinx_contact_s2s.faces`).
 """
 
 from __future__ import annotations
@@ -126,8 +129,9 @@ class ContactSurface:
             ValueError: On every rank, if no process holds a facet with ``tag``, if a
                 tagged facet is not on the mesh boundary, if ``facet_tags`` belong to
                 another mesh, if ``V`` is not a vector Lagrange space on a 2D triangle or
-                quadrilateral mesh in the plane, or if a tagged facet has a node with NaN
-                or infinite coordinates or zero length (no normal, Eq. 38).
+                quadrilateral mesh in the plane or a 3D tetrahedron or hexahedron mesh,
+                or if a tagged facet has a node with NaN or infinite coordinates or zero
+                length or area (no normal, Eq. 38).
         """
         mesh = V.mesh
         comm = mesh.comm
@@ -581,8 +585,10 @@ def contact_surface(
         ValueError: On every rank: no process holds a facet marked ``tag``; a tagged
             facet is not on the boundary; ``facet_tags`` are not facet tags or belong
             to another mesh; ``V`` is not a vector Lagrange space of degree 1 or 2 on a
-            2D triangle or quadrilateral mesh in the plane; a tagged facet has a node
-            with NaN or infinite coordinates, or zero length; an unknown ``backend``.
+            2D triangle or quadrilateral mesh in the plane or a 3D tetrahedron or
+            hexahedron mesh; a tagged facet has a node with NaN or infinite coordinates,
+            or zero length or area; an unknown ``backend`` (faces: ``"c"`` too, they
+            have NumPy kernels only).
         RuntimeError: On every rank, if ``backend="c"`` cannot be compiled.
     """
     return ContactSurface(V, facet_tags, tag, backend=backend)

@@ -18,7 +18,13 @@ import numpy as np
 import pytest
 import ufl
 
-from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s import (
+    Material,
+    contact_pair,
+    contact_surface,
+    plane_obstacle,
+    rigid_surface,
+)
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 
@@ -142,10 +148,16 @@ def test_unilateral_refuses_p2_triangle_multipliers():
         check_exact(us, pressure)
 
 
-def test_other_methods_are_refused_on_faces():
-    """Only composite segment-to-segment is implemented on faces: a clear error, every rank."""
+def test_what_faces_do_not_have_is_refused():
+    """Only composite segment-to-segment against meshed deformable targets, on faces."""
     (V_lo, t_lo), (V_up, t_up) = scene("hex", "tet", 1)[0]
     upper, lower = contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP)
     for options in ({"method": "node-to-segment"}, {"quadrature": "gauss"}):
         with pytest.raises(NotImplementedError, match="on the faces of 3D meshes"):
             contact_pair(upper, lower, **options)
+    with pytest.raises(NotImplementedError, match="2D meshes only"):
+        contact_pair(upper, plane_obstacle([0.0, 0.0, 0.5], [0.0, 0.0, 1.0]))
+    with pytest.raises(NotImplementedError, match="2D meshes only"):
+        rigid_surface(V_lo.mesh, t_lo, TOP)
+    with pytest.raises(ValueError, match="axis"):
+        contact_pair(upper, lower, axisymmetric=True)
