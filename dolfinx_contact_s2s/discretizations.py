@@ -168,16 +168,17 @@ class Discretization:
 
         Raises:
             NotImplementedError: On faces (3D), for all but segment-to-segment with the
-                composite Gauss rule and its default multiplier.
+                composite Gauss rule and a continuous Lagrange multiplier.
         """
         if self.own_multiplier and multiplier is not None:
             raise ValueError(f"{self.method} defines its own multiplier space")
+        continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
         if contactor.facet_dim == 2 and (
-            self.method != "segment-to-segment" or quadrature != "composite-gauss" or multiplier
+            self.method != "segment-to-segment" or quadrature != "composite-gauss" or not continuous
         ):
             raise NotImplementedError(
                 "on the faces of 3D meshes: method='segment-to-segment' with the "
-                "composite-gauss rule and its default multiplier only (got "
+                "composite-gauss rule and a continuous Lagrange multiplier only (got "
                 f"method={self.method!r}, quadrature={quadrature!r}, multiplier={multiplier!r})"
             )
 

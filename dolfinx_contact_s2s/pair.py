@@ -256,10 +256,14 @@ class ContactPair:
                 quadrature_points = (degree + k_u + 2 * curved) // 2 + 1
         self.quadrature_points = int(quadrature_points)
         #: Points and weights of the rule on [0, 1] (edges), or on the reference triangle
-        #: (faces: placed on each sub-triangle of an overlap, exact to the degree that
-        #: ``quadrature_points`` Gauss points reach on an interval).
+        #: (faces: on each sub-triangle of an overlap, exact for the multiplier times a
+        #: displacement function on flat faces: Q_k is of total degree 2k in the plane).
         if contactor.facet_dim == 2:
-            self.rule = triangle_rule(2 * self.quadrature_points - 1)
+            quad = [2 if s.cell_type.name == "hexahedron" else 1 for s in (contactor, *targets)]
+            k_t = max(
+                q * s.element.degree for q, s in zip(quad, (contactor, *targets), strict=True)
+            )
+            self.rule = triangle_rule(quad[0] * degree + k_t + 2 * curved)
         else:
             self.rule = interval_rule(quadrature, self.quadrature_points)
 

@@ -153,6 +153,12 @@ def test_unilateral_refuses_p2_triangle_multipliers():
     pair = contact_pair(contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP))
     with pytest.raises(ValueError, match="integrate to zero"):
         UnilateralContactProblem(a, L, [pair], bcs, petsc_options_prefix="u3d_")
+    # The remedy the message names: a P1 multiplier on the P2 faces.
+    upper, lower = contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP)
+    linear = contact_pair(upper, lower, multiplier=("Lagrange", 1))
+    with UnilateralContactProblem(a, L, [linear], bcs, petsc_options_prefix="u3d_") as problem:
+        us, (pressure,) = problem.solve()
+        check_exact(us, pressure)
     # Tied contact needs no sign and passes the patch test with the same pair.
     with LinearContactProblem(a, L, [pair], bcs, petsc_options_prefix="c3d_") as problem:
         us, (pressure,) = problem.solve()
@@ -163,7 +169,11 @@ def test_what_faces_do_not_have_is_refused():
     """Only composite segment-to-segment against meshed deformable targets, on faces."""
     (V_lo, t_lo), (V_up, t_up) = scene("hex", "tet", 1)[0]
     upper, lower = contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP)
-    for options in ({"method": "node-to-segment"}, {"quadrature": "gauss"}):
+    for options in (
+        {"method": "node-to-segment"},
+        {"quadrature": "gauss"},
+        {"multiplier": ("DG", 0)},
+    ):
         with pytest.raises(NotImplementedError, match="on the faces of 3D meshes"):
             contact_pair(upper, lower, **options)
     with pytest.raises(NotImplementedError, match="2D meshes only"):

@@ -272,6 +272,6 @@ def check_inequality_multipliers(pairs: Sequence[ContactPair]) -> None:
             raise ValueError(
                 f"pair {j}: {count} multiplier basis functions integrate to zero (the vertex "
                 "functions of the P2 multiplier on triangular faces): unilateral contact "
-                "cannot use them. Use hexahedra (Q2) for the contactor, P1 displacements, "
-                "or tied contact (LinearContactProblem)"
+                "cannot use them. Use a P1 multiplier, contact_pair(..., multiplier="
+                "('Lagrange', 1)), hexahedra (Q2) for the contactor, or tied contact"
             )
