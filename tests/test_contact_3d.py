@@ -11,15 +11,10 @@ segment-to-segment (Eqs. 40-42 on the triangles of the clipped face overlaps, Fi
 in 3D) transmits it to round-off, with P1 and P2 and either block as the contactor.
 """
 
-from mpi4py import MPI
-
-import dolfinx
 import numpy as np
 import pytest
-import ufl
 
 from dolfinx_contact_s2s import (
-    Material,
     contact_pair,
     contact_surface,
     plane_obstacle,
@@ -29,92 +24,14 @@ from dolfinx_contact_s2s.analysis.dense import inf_sup_dense
 from dolfinx_contact_s2s.analysis.infsup import InfSupTest, inf_sup
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
-
-COMM = MPI.COMM_WORLD
-E, NU, P = 1.0, 0.3, 1.0
-CELLS = {"tet": dolfinx.mesh.CellType.tetrahedron, "hex": dolfinx.mesh.CellType.hexahedron}
-#: Tags: the bottom and top of each block, its side x = 0 and its side y = 0.
-BOTTOM, TOP, SIDE_X, SIDE_Y = 1, 2, 3, 4
-
-
-def block(z0: float, n: int, cell: str, seed: int | None, layers: int = 2):
-    """A block [0, 1]^2 x [z0, z0 + 1/2] of ``n`` x ``n`` x ``layers`` cells, tagged.
-
-    With ``seed``, the nodes move in the plane of the contact and the faces stay flat:
-    tetrahedra at random (inside the square, by up to a fifth of a cell), hexahedra by a
-    graded map of x and of y, so that their faces stay parallelograms. A bilinear face
-    that is not a parallelogram has a rational inverse map, which no Gauss rule on the
-    pieces integrates exactly (README, 3D: the patch test then holds to the rule's error).
-    """
-    mesh = dolfinx.mesh.create_box(
-        COMM, [[0, 0, z0], [1, 1, z0 + 0.5]], [n, n, layers], CELLS[cell]
-    )
-    if seed is not None:
-        x = mesh.geometry.x
-        X, Y = x[:, 0].copy(), x[:, 1].copy()
-        if cell == "hex":
-            x[:, 0] += 0.1 * np.sin(np.pi * X) * (1 + 0.3 * seed)
-            x[:, 1] += 0.07 * np.sin(2 * np.pi * Y) / (1 + seed)
-        else:
-            inside = (np.minimum(X, Y) > 1e-12) & (np.maximum(X, Y) < 1 - 1e-12)
-            # The same motion of a node on every rank that holds it: a function of position.
-            x[inside, 0] += 0.2 / n * np.sin(1e3 * (X + 2 * Y) + seed)[inside]
-            x[inside, 1] += 0.2 / n * np.sin(3e2 * Y - 5e2 * X + seed)[inside]
-    mesh.topology.create_connectivity(2, 3)
-    markers = (
-        (BOTTOM, lambda x: np.isclose(x[2], z0)),
-        (TOP, lambda x: np.isclose(x[2], z0 + 0.5)),
-        (SIDE_X, lambda x: np.isclose(x[0], 0.0)),
-        (SIDE_Y, lambda x: np.isclose(x[1], 0.0)),
-    )
-    found = [(dolfinx.mesh.locate_entities_boundary(mesh, 2, f), tag) for tag, f in markers]
-    facets = np.concatenate([f for f, _ in found])
-    values = np.concatenate([np.full(f.size, tag, dtype=np.int32) for f, tag in found])
-    order = np.argsort(facets, kind="stable")
-    return mesh, dolfinx.mesh.meshtags(mesh, 2, facets[order], values[order])
-
-
-def scene(
-    lower: str,
-    upper: str,
-    degree: int,
-    seed: int | None = None,
-    cells: tuple[int, int] = (3, 4),
-    layers: int = 2,
-):
-    """Spaces, forms and boundary conditions of the two blocks (the user's own forms)."""
-    spaces, a, L, bcs = [], [], [], []
-    for z0, n, cell, loaded in ((0.0, cells[0], lower, False), (0.5, cells[1], upper, True)):
-        mesh, tags = block(z0, n, cell, seed, layers)
-        V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
-        form, _, v = Material(E=E, nu=NU).forms(V)
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
-        traction = dolfinx.fem.Constant(mesh, np.array([0.0, 0.0, -P if loaded else 0.0]))
-        a.append(form)
-        L.append(ufl.inner(traction, v) * ds(TOP))
-        fixed = [(0, SIDE_X), (1, SIDE_Y)] + ([] if loaded else [(2, BOTTOM)])
-        for component, tag in fixed:
-            dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), 2, tags.find(tag))
-            bcs.append(dolfinx.fem.dirichletbc(0.0, dofs, V.sub(component)))
-        spaces.append((V, tags))
-    return spaces, a, L, bcs
-
-
-def exact(x):
-    """Uniaxial stress under the pressure P: the displacement."""
-    return np.stack([NU * P / E * x[0], NU * P / E * x[1], -P / E * x[2]])
+from paper.blocks3d import BOTTOM, TOP, E, P, errors, scene
 
 
 def check_exact(us, pressure):
     """Multipliers P and the displacement of uniaxial stress, to round-off (Eq. 36)."""
-    worst_p = np.max(np.abs(pressure.x.array - P), initial=0.0)
-    worst_u = 0.0
-    for u in us:
-        expected = dolfinx.fem.Function(u.function_space)
-        expected.interpolate(exact)
-        worst_u = max(worst_u, float(np.max(np.abs(u.x.array - expected.x.array), initial=0.0)))
-    assert COMM.allreduce(worst_p, op=MPI.MAX) <= 1e-10 * P
-    assert COMM.allreduce(worst_u, op=MPI.MAX) <= 1e-10 * P / E
+    worst_p, worst_u = errors(us, pressure)
+    assert worst_p <= 1e-10 * P
+    assert worst_u <= 1e-10 * P / E
 
 
 @pytest.mark.parametrize("seed", [None, 1])
