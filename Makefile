@@ -121,7 +121,8 @@ test-mpi:
 # Parallel consistency on 3 ranks (more processes than cores: --oversubscribe).
 test-mpi3:
 	@echo "== [$(SUITE)] parallel consistency, 3 ranks"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py \
+	    tests/test_contact_3d.py::test_ranks_agree
 
 smoke:
 	@echo "== [$(SUITE)] demos, smoke run"

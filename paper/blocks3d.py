@@ -24,7 +24,15 @@ CELLS = {"tet": dolfinx.mesh.CellType.tetrahedron, "hex": dolfinx.mesh.CellType.
 BOTTOM, TOP, SIDE_X, SIDE_Y = 1, 2, 3, 4
 
 
-def block(z0: float, n: int, cell: str, seed: int | None, layers: int = 2, warp: bool = False):
+def block(
+    z0: float,
+    n: int,
+    cell: str,
+    seed: int | None,
+    layers: int = 2,
+    warp: bool = False,
+    comm: MPI.Comm = COMM,
+):
     """A block [0, 1]^2 x [z0, z0 + 1/2] of ``n`` x ``n`` x ``layers`` cells, tagged.
 
     With ``seed``, the nodes move in the plane of the contact and the faces stay flat:
@@ -35,7 +43,7 @@ def block(z0: float, n: int, cell: str, seed: int | None, layers: int = 2, warp:
     3D: the patch test then holds to the rule's error).
     """
     mesh = dolfinx.mesh.create_box(
-        COMM, [[0, 0, z0], [1, 1, z0 + 0.5]], [n, n, layers], CELLS[cell]
+        comm, [[0, 0, z0], [1, 1, z0 + 0.5]], [n, n, layers], CELLS[cell]
     )
     if seed is not None:
         x = mesh.geometry.x
@@ -70,19 +78,27 @@ def scene(
     cells: tuple[int, int] = (3, 4),
     layers: int = 2,
     warp: bool = False,
+    comm: MPI.Comm = COMM,
+    tilt: float = 0.0,
 ):
-    """Spaces, forms and boundary conditions of the two blocks (the user's own forms).
+    r"""Spaces, forms and boundary conditions of the two blocks (the user's own forms).
 
     ``cells`` across the lower and the upper block; ``seed``, ``layers`` and ``warp`` as
-    :func:`block` takes them.
+    :func:`block` takes them. With ``tilt`` the pressure on the top is
+    :math:`P (1 - \text{tilt}\, x)`: no closed form, the contact opens where it pulls.
     """
     spaces, a, L, bcs = [], [], [], []
     for z0, n, cell, loaded in ((0.0, cells[0], lower, False), (0.5, cells[1], upper, True)):
-        mesh, tags = block(z0, n, cell, seed, layers, warp)
+        mesh, tags = block(z0, n, cell, seed, layers, warp, comm)
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
         form, _, v = Material(E=E, nu=NU).forms(V)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
-        traction = dolfinx.fem.Constant(mesh, np.array([0.0, 0.0, -P if loaded else 0.0]))
+        x = ufl.SpatialCoordinate(mesh)
+        traction = (
+            ufl.as_vector([0.0, 0.0, -P * (1 - tilt * x[0])])
+            if loaded
+            else dolfinx.fem.Constant(mesh, np.zeros(3))
+        )
         a.append(form)
         L.append(ufl.inner(traction, v) * ds(TOP))
         fixed = [(0, SIDE_X), (1, SIDE_Y)] + ([] if loaded else [(2, BOTTOM)])

@@ -11,6 +11,8 @@ segment-to-segment (Eqs. 40-42 on the triangles of the clipped face overlaps, Fi
 in 3D) transmits it to round-off, with P1 and P2 and either block as the contactor.
 """
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 
@@ -24,7 +26,7 @@ from dolfinx_contact_s2s.analysis.dense import inf_sup_dense
 from dolfinx_contact_s2s.analysis.infsup import InfSupTest, inf_sup
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
-from paper.blocks3d import BOTTOM, TOP, E, P, errors, scene
+from paper.blocks3d import BOTTOM, COMM, TOP, E, P, errors, scene
 
 
 def check_exact(us, pressure):
@@ -135,3 +137,41 @@ def test_inf_sup_is_bounded(cells, degree):
         betas.append(result.beta)
     slope = np.polyfit(np.log(1.0 / np.array(levels[1:])), np.log(betas[1:]), 1)[0]
     assert abs(slope) < STABLE_SLOPE, (betas, slope)
+
+
+def _solution(comm, kind, cells, degree):
+    """Pressures and active set keyed by the multiplier's coordinates, on ``comm``."""
+    ((V_lo, t_lo), (V_up, t_up)), a, L, bcs = scene(
+        *cells, degree, seed=1, comm=comm, tilt=1.5 if kind is UnilateralContactProblem else 0.5
+    )
+    pair = contact_pair(contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP))
+    with kind(a, L, [pair], bcs, petsc_options_prefix="r3d_") as problem:
+        _, (pressure,) = problem.solve()
+        n = pressure.function_space.dofmap.index_map.size_local
+        x = pressure.function_space.tabulate_dof_coordinates()[:n]
+        active = problem.active[0].x.array[:n] if kind is UnilateralContactProblem else None
+        values = pressure.x.array[:n]
+    keys = np.concatenate(comm.allgather(np.round(x, 12)))
+    order = np.lexsort(keys.T)
+    gathered = np.concatenate(comm.allgather(values))[order]
+    flags = None if active is None else np.concatenate(comm.allgather(active))[order]
+    return keys[order], gathered, flags
+
+
+@pytest.mark.parametrize("kind", [LinearContactProblem, UnilateralContactProblem])
+@pytest.mark.parametrize("cells, degree", [(("hex", "tet"), 1), (("tet", "hex"), 2)])
+def test_ranks_agree(kind, cells, degree):
+    """1, 2 and 3 ranks against one: the pressures to 1e-10 and the active sets exactly.
+
+    Under a pressure P (1 - tilt x) on the top (no closed form): tied, and unilateral with
+    the contact opening where the load pulls (tilt 1.5).
+    """
+    if COMM.size == 1:
+        pytest.skip("compares a run on several ranks with one on one rank")
+    x, pressure, active = _solution(COMM, kind, cells, degree)
+    x1, pressure1, active1 = _solution(MPI.COMM_SELF, kind, cells, degree)
+    np.testing.assert_array_equal(x, x1)
+    np.testing.assert_allclose(pressure, pressure1, rtol=0, atol=1e-10 * np.abs(pressure1).max())
+    if active is not None:
+        np.testing.assert_array_equal(active, active1)
+        assert 0 < np.count_nonzero(active1) < active1.size  # the contact opened in part
