@@ -9,7 +9,7 @@ SUITE   ?= trixie
 
 .PHONY: demo bench bench-smoke fuzz test check lint package test-serial test-mpi test-mpi3 smoke env clean
 
-## demo: the patch-test, inf-sup, Hertz, Fig. 16, speed-accuracy, extremes, rigid-obstacle, adaptive-edge and axisymmetric Hertz studies on 1 and 2 ranks -> results/
+## demo: the patch-test, inf-sup, Hertz, Fig. 16, speed-accuracy, extremes, rigid-obstacle, adaptive-edge, axisymmetric Hertz and 3D studies on 1 and 2 ranks -> results/
 demo:
 	$(ENV_RUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py
@@ -29,6 +29,8 @@ demo:
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_adaptive_edge.py
 	$(ENV_RUN) python3 demos/demo_axisymmetric.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_axisymmetric.py
+	$(ENV_RUN) python3 demos/demo_3d.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_3d.py
 
 ## bench: every performance figure of issue 11 as a ratio measured in one run -> results/bench/*.json,
 ## plots and the performance section of results/report.md (about 10-20 minutes on 2 cores)
@@ -119,7 +121,8 @@ test-mpi:
 # Parallel consistency on 3 ranks (more processes than cores: --oversubscribe).
 test-mpi3:
 	@echo "== [$(SUITE)] parallel consistency, 3 ranks"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py \
+	    tests/test_contact_3d.py::test_ranks_agree
 
 smoke:
 	@echo "== [$(SUITE)] demos, smoke run"
@@ -141,6 +144,8 @@ smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_adaptive_edge.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_axisymmetric.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_axisymmetric.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_3d.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_3d.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:

@@ -195,7 +195,7 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    none = covered.array_r <= UNCOVERED_TOLERANCE * pair.multiplier_integrals()
+    none = covered.array_r <= UNCOVERED_TOLERANCE * pair.multiplier_supports()
     covered.destroy()
     mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
     return np.concatenate(comm.allgather(mine)).astype(np.int64)

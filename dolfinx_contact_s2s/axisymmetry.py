@@ -83,6 +83,11 @@ def check_axis_surface(surface, tolerance: float = AXIS_TOLERANCE, samples: int 
         samples: Points per facet.
     """
     mesh, comm = surface.V.mesh, surface.comm
+    if mesh.topology.dim != 2:
+        raise ValueError(
+            f"contact surface {surface.tag} is on a {mesh.topology.dim}D mesh: an "
+            "axisymmetric model is a 2D mesh of the (r, z) half plane, with r the axis' distance"
+        )
     data = surface.data
     n = len(data)
     xi = np.linspace(0.0, 1.0, samples)

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import math
 import typing
 
 import dolfinx
@@ -18,6 +19,7 @@ __all__ = [
     "gmsh_model_to_mesh",
     "refine_marked",
     "submesh_parent_entities",
+    "tabulate",
 ]
 
 DOLFINX_VERSION: tuple[int, int] = tuple(  # type: ignore[assignment]
@@ -186,3 +188,16 @@ def create_mesh_in_place(
     offset = comm.exscan(cells.shape[0]) if comm.size > 1 else 0
     num = mesh.topology.index_map(mesh.topology.dim).size_local
     return mesh, original[:num] - (offset or 0)
+
+
+def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
+    """Tabulate a scalar Basix-UFL element, also at zero points.
+
+    Returns:
+        Array ``(num_derivatives, num_points, num_dofs)``.
+    """
+    X = np.ascontiguousarray(X, dtype=np.float64)
+    if X.shape[0] == 0:
+        count = math.comb(derivatives + X.shape[1], derivatives)
+        return np.zeros((count, 0, element.dim))
+    return element.tabulate(derivatives, X)

@@ -27,7 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.axisymmetry import ring_weights
-from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities
+from dolfinx_contact_s2s.multiplier import MultiplierSpace, cell_rows, facet_space
 from dolfinx_contact_s2s.quadrature import interval_rule
 from dolfinx_contact_s2s.search import find_targets, node_offsets
 from dolfinx_contact_s2s.segmentation import Pieces, Segmentation, SubSegments
@@ -45,25 +45,6 @@ __all__ = [
     "PointGroups",
     "SegmentToSegment",
 ]
-
-
-@dataclass(frozen=True)
-class MultiplierSpace:
-    r"""The multiplier space of a pair and its place on the contactor facets.
-
-    Attributes:
-        Q: The multiplier function space.
-        element: Its scalar Basix-UFL element.
-        cells: Cell of ``Q``'s mesh on each contactor facet row (empty for a space that
-            does not live on the contactor facets).
-        flip: Whether the cell runs against the contactor facet parameter
-            (:math:`s = 1 - \xi`), per contactor facet row.
-    """
-
-    Q: dolfinx.fem.FunctionSpace
-    element: typing.Any
-    cells: npt.NDArray[np.int32]
-    flip: npt.NDArray[np.bool_]
 
 
 @dataclass(frozen=True)
@@ -114,47 +95,6 @@ class PairLike(typing.Protocol):
     def sub_segments(self, target: int = 0, data: SurfaceData | None = None) -> Pieces:
         """The pieces of the contactor facets against a target (Fig. 15(b))."""
         ...
-
-
-def facet_space(
-    contactor: ContactSurface, degree: int, discontinuous: bool, variant: basix.LagrangeVariant
-) -> MultiplierSpace:
-    """A Lagrange space of Eq. (16) on a submesh of the contactor's tagged facets."""
-    mesh = contactor.V.mesh
-    fdim = mesh.topology.dim - 1
-    imap = mesh.topology.index_map(fdim)
-    num_facets = imap.size_local + imap.num_ghosts
-    submesh, entity_map, _, _ = dolfinx.mesh.create_submesh(mesh, fdim, contactor.tagged_facets)
-    sub_map = submesh.topology.index_map(fdim)
-    num_sub = sub_map.size_local + sub_map.num_ghosts
-    parent = submesh_parent_entities(entity_map, num_sub)
-    parent_to_sub = np.full(num_facets, -1, dtype=np.int32)
-    parent_to_sub[parent] = np.arange(num_sub, dtype=np.int32)
-    element = basix.ufl.element(
-        "Lagrange",
-        submesh.basix_cell(),
-        degree,
-        lagrange_variant=variant,
-        discontinuous=discontinuous,
-    )
-    Q = dolfinx.fem.functionspace(submesh, element)
-    cells = parent_to_sub[contactor.data.facets]
-
-    # The submesh cell may run against the facet parametrisation: s = xi or 1 - xi.
-    data = contactor.data
-    rows = np.arange(len(data), dtype=np.int32)
-    _, x0, _ = contactor.evaluate(data, rows, np.zeros(rows.size))
-    sub_x = submesh.geometry.x[geometry_dofmap(submesh)[cells, 0], : x0.shape[1]]
-    flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (1.0 + np.linalg.norm(x0, axis=1))
-    return MultiplierSpace(Q, element, cells, flip)
-
-
-def cell_rows(space: MultiplierSpace, c_rows: npt.NDArray[np.int32]) -> npt.NDArray[np.int64]:
-    """Global multiplier dofs of the cells on contactor facet rows ``c_rows``, ``(S, nk)``."""
-    qmap = space.Q.dofmap
-    local = qmap.list[space.cells[c_rows]]
-    rows = qmap.index_map.local_to_global(local.reshape(-1)).reshape(local.shape)
-    return rows.astype(np.int64)
 
 
 def _multiplicity(space: MultiplierSpace) -> npt.NDArray[np.floating]:
@@ -224,9 +164,23 @@ class Discretization:
         quadrature: str,
         multiplier: tuple[str, int] | None,
     ) -> None:
-        """Raise ValueError (on every rank: the inputs are the same) for a bad choice."""
+        """Raise ValueError (on every rank: the inputs are the same) for a bad choice.
+
+        Raises:
+            NotImplementedError: On faces (3D), for all but segment-to-segment with the
+                composite Gauss rule and a continuous Lagrange multiplier.
+        """
         if self.own_multiplier and multiplier is not None:
             raise ValueError(f"{self.method} defines its own multiplier space")
+        continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
+        if contactor.facet_dim == 2 and (
+            self.method != "segment-to-segment" or quadrature != "composite-gauss" or not continuous
+        ):
+            raise NotImplementedError(
+                "on the faces of 3D meshes: method='segment-to-segment' with the "
+                "composite-gauss rule and a continuous Lagrange multiplier only (got "
+                f"method={self.method!r}, quadrature={quadrature!r}, multiplier={multiplier!r})"
+            )
 
     def weight(self, weight: str) -> str:
         """The weight actually used (``"unit"`` or ``"tributary"``)."""

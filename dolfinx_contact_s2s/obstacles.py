@@ -53,9 +53,10 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.compat import blocked_sub_element
-from dolfinx_contact_s2s.discretizations import PointGroups, cell_rows
+from dolfinx_contact_s2s.discretizations import PointGroups
+from dolfinx_contact_s2s.multiplier import cell_rows
 from dolfinx_contact_s2s.pair import ContactPair, CouplingBlocks
-from dolfinx_contact_s2s.surface import ContactSurface, facet_monomials
+from dolfinx_contact_s2s.surface import ContactSurface
 
 __all__ = [
     "AnalyticObstacle",
@@ -100,6 +101,9 @@ class RigidSurface(ContactSurface):
     ):
         """See :func:`rigid_surface`."""
         gdim = mesh.geometry.dim
+        if mesh.topology.dim != 2:
+            # The prescribed motion is a plane one: a translation and one angle.
+            raise NotImplementedError("rigid surfaces are implemented for 2D meshes only")
         if degree is None:
             degree = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element()).degree
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (gdim,)))
@@ -322,11 +326,7 @@ class AnalyticObstacle:
             )
         sel = np.flatnonzero(facing)
         r = rows[sel]
-        mu = cs.backend.facet_basis(
-            facet_monomials(pair.multiplier_element, np.zeros((1, 1)), np.ones((1, 1))),
-            np.zeros(sel.size, np.int32),
-            np.where(pair.multiplier.flip[r], 1.0 - xi[sel], xi[sel]),
-        )
+        mu = pair.multiplier.basis(r, xi[sel], cs.backend)
         phi = cs.facet_basis(C, r, xi[sel])
         rows_q = cell_rows(pair.multiplier, r)
         none = np.full(sel.size, -1, np.int32)

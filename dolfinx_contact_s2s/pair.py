@@ -36,10 +36,8 @@ from dataclasses import dataclass
 
 from mpi4py import MPI
 
-import dolfinx
 import numpy as np
 import numpy.typing as npt
-import ufl
 
 from dolfinx_contact_s2s.axisymmetry import (
     check_axis_surface,
@@ -47,10 +45,10 @@ from dolfinx_contact_s2s.axisymmetry import (
     ring_weights,
 )
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
-from dolfinx_contact_s2s.quadrature import RULES, interval_rule
+from dolfinx_contact_s2s.quadrature import RULES, interval_rule, triangle_rule
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
-from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
     "METHODS",
@@ -195,6 +193,8 @@ class ContactPair:
         targets = [t for t in targets if not getattr(t, "analytic", False)]
         if self.obstacles and method in ("node-to-node", "intermediate-surface"):
             raise ValueError(f"{method} needs target nodes: analytic obstacles have none")
+        if self.obstacles and contactor.facet_dim == 2:
+            raise NotImplementedError("analytic obstacles are implemented for 2D meshes only")
         for target in targets:
             if contactor is target or (
                 contactor.V.mesh is target.V.mesh and contactor.tag == target.tag
@@ -215,9 +215,8 @@ class ContactPair:
             raise ValueError("weight must be 'unit' or 'tributary'")
         discretization = DISCRETIZATIONS[method](method)
         self.segmentation = get_segmentation(contactor.facet_dim)
-        # Caches of :meth:`swept_boxes` and :meth:`multiplier_integrals`.
+        # Cache of :meth:`swept_boxes`.
         self._swept: tuple[SurfaceData, npt.NDArray[np.floating]] | None = None
-        self._multiplier_integrals: npt.NDArray[np.floating] | None = None
         if drop_coincident and not discretization.drops_coincident:
             raise ValueError("drop_coincident applies to node-to-segment only")
         self.contactor = contactor
@@ -256,8 +255,17 @@ class ContactPair:
             else:
                 quadrature_points = (degree + k_u + 2 * curved) // 2 + 1
         self.quadrature_points = int(quadrature_points)
-        #: Points and weights of the rule on [0, 1].
-        self.rule = interval_rule(quadrature, self.quadrature_points)
+        #: Points and weights of the rule on [0, 1] (edges), or on the reference triangle
+        #: (faces: on each sub-triangle of an overlap, exact for the multiplier times a
+        #: displacement function on flat faces: Q_k is of total degree 2k in the plane).
+        if contactor.facet_dim == 2:
+            quad = [2 if s.cell_type.name == "hexahedron" else 1 for s in (contactor, *targets)]
+            k_t = max(
+                q * s.element.degree for q, s in zip(quad, (contactor, *targets), strict=True)
+            )
+            self.rule = triangle_rule(quad[0] * degree + k_t + 2 * curved)
+        else:
+            self.rule = interval_rule(quadrature, self.quadrature_points)
 
         continuous, degree, variant = discretization.multiplier(
             continuous, degree, self.quadrature_points
@@ -279,10 +287,6 @@ class ContactPair:
         self.Q = self.multiplier.Q
         self.multiplier_element = self.multiplier.element
         self.submesh = self.Q.mesh
-        # The multiplier basis H^k (Eq. 42) as polynomials in its cell's parameter s.
-        self._multiplier_table = facet_monomials(
-            self.multiplier_element, np.zeros((1, 1)), np.ones((1, 1))
-        )
         gathered = [t.gather() for t in targets] if discretization.nodal else []
         self.duplicates = discretization.duplicates(self, gathered)
 
@@ -329,21 +333,23 @@ class ContactPair:
     def multiplier_integrals(self) -> npt.NDArray[np.floating]:
         r"""The integrals :math:`|\int \mu_k|` of the owned multiplier basis functions.
 
-        Computed once (collective the first time): the multiplier space lives on a mesh
-        of its own, made with the pair, whose nodes nothing moves. Without the ring
+        Collective the first time (:attr:`MultiplierSpace.integrals`). Without the ring
         weight also in axisymmetry: they measure the support of :math:`\mu_k` (is it
         covered by a target?), and a P2 vertex function on the axis has
         :math:`\int \mu_k\, 2\pi r\, ds = 0`.
         """
-        if self._multiplier_integrals is None:
-            Q = self.Q
-            form = dolfinx.fem.form(ufl.TestFunction(Q) * ufl.dx(domain=Q.mesh))
-            vector = dolfinx.fem.assemble_vector(form)
-            vector.scatter_reverse(dolfinx.la.InsertMode.add)
-            integrals = np.abs(vector.array[: Q.dofmap.index_map.size_local])
-            integrals.setflags(write=False)
-            self._multiplier_integrals = integrals
-        return self._multiplier_integrals
+        return self.multiplier.integrals
+
+    def multiplier_supports(self) -> npt.NDArray[np.floating]:
+        r"""What a multiplier's coverage is compared with to call it uncovered (collective).
+
+        On edges :meth:`multiplier_integrals`; on faces :math:`\int \mu_k^2`
+        (:attr:`MultiplierSpace.squares`), since a P2 vertex function of a triangle has
+        :math:`\int \mu_k = 0`.
+        """
+        return (
+            self.multiplier.integrals if self.contactor.facet_dim == 1 else self.multiplier.squares
+        )
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
@@ -392,10 +398,11 @@ class ContactPair:
     def _integrate(self, ts: ContactSurface, T: SurfaceData, g: PointGroups) -> CouplingBlocks:
         """The blocks of Eqs. (40)-(42) at the points ``g`` against target ``ts``."""
         cs, C = self.contactor, self.contactor.data
-        S, nq = g.xi.shape
+        S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
         rows_t = np.repeat(g.target, nq)
-        xi = np.ascontiguousarray(g.xi.reshape(-1))
+        # One parameter per point on an edge, two reference coordinates on a face.
+        xi = np.ascontiguousarray(g.xi.reshape(S * nq, *g.xi.shape[2:]))
 
         kernels = cs.backend
         normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
@@ -405,17 +412,15 @@ class ContactPair:
         local = np.arange(rows_c.size, dtype=np.int32)
         c_local = C.coefficients[rows_c]
         origin = c_local[:, 0].copy()
-        c_local[:, 0] = 0.0
-        t_local = T.coefficients[rows_t]
-        t_local[:, 0] -= origin
+        c_local = kernels.shift(c_local, -origin)
+        t_local = ts.backend.shift(T.coefficients[rows_t], -origin)
         x_c, _ = kernels.evaluate(c_local, local, xi)
         eta = kernels.intersect(t_local, local, x_c, normals)
         np.clip(eta, 0.0, 1.0, out=eta)
         x_t, _ = kernels.evaluate(t_local, local, eta)
         gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
 
-        s_sub = np.where(self.multiplier.flip[rows_c], 1.0 - xi, xi)
-        mu = kernels.facet_basis(self._multiplier_table, np.zeros(s_sub.size, np.int32), s_sub)
+        mu = self.multiplier.basis(rows_c, xi, kernels)
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
         phi_c, phi_t = cs.facet_basis(C, rows_c, xi), ts.facet_basis(T, rows_t, eta)
@@ -428,8 +433,9 @@ class ContactPair:
             gaps.reshape(S, nq),
         )
         # Whether mu_k faces a target is a property of its support: the plain weights (a
-        # P2 vertex function on the axis has a zero r-weighted integral).
-        coverage = np.einsum("sqk,sq->sk", mu, g.weights)
+        # P2 vertex function on the axis has a zero r-weighted integral), and on faces its
+        # square (a P2 vertex function of a triangle integrates to zero).
+        coverage = np.einsum("sqk,sq->sk", mu**2 if cs.facet_dim == 2 else mu, g.weights)
         return CouplingBlocks(
             ts, g.rows, C.dofs[g.contactor], b_c, T.dofs[g.target], b_t, gap, coverage
         )

@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Quadrature rules on the unit interval for contact integrals (Fig. 15).
+"""Quadrature rules for contact integrals (Fig. 15): the unit interval, and the triangle.
 
 Gauss rules come from Basix; closed Newton-Cotes rules (Fig. 15(c): the two-point
 one is the trapezoidal rule) have equally spaced points including both ends.
@@ -12,7 +12,7 @@ import basix
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["RULES", "interval_rule"]
+__all__ = ["RULES", "interval_rule", "triangle_rule"]
 
 #: Rule names: ``composite-`` rules are applied on every sub-segment (Fig. 15(b)-(c)),
 #: the others on every contactor segment (Fig. 15(a)).
@@ -47,3 +47,21 @@ def interval_rule(
         w = np.linalg.solve(np.vander(x, increasing=True).T, moments)
         return x, w
     raise ValueError(f"unknown quadrature rule {kind!r}; choose from {RULES}")
+
+
+def triangle_rule(degree: int) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+    """Basix's Gauss-Jacobi rule on the reference triangle, for the pieces of faces.
+
+    The composite rule in 3D (Fig. 15(b) on faces) places it on every sub-triangle of
+    the overlap of a contactor face and a target face.
+
+    Args:
+        degree: Maximum polynomial degree that will be integrated exactly.
+
+    Returns:
+        ``(points, weights)``, of shapes ``(Q, 2)`` and ``(Q,)``; the weights sum to 1/2.
+    """
+    x, w = basix.make_quadrature(
+        basix.CellType.triangle, max(int(degree), 0), rule=basix.QuadratureType.gauss_jacobi
+    )
+    return x, w

@@ -8,7 +8,8 @@ displacements are smooth on each piece. How the pieces are cut depends on the
 topological dimension of the facets: on the edges of 2D cells (dimension 1) a piece
 is an interval of the edge's parameter :math:`\xi`, between the projections of the
 target's corner nodes (:class:`IntervalSegmentation`); on the faces of 3D cells
-(dimension 2) it would be a polygon, the clipped overlap of two faces.
+(dimension 2) it is a triangle of the clipped overlap of two faces
+(:class:`PolygonSegmentation`).
 
 A :class:`Segmentation` is that rule for one dimension; :data:`SEGMENTATIONS` holds
 one per facet dimension and :func:`get_segmentation` looks one up. A pair
@@ -27,14 +28,19 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels import KernelBackend
+from dolfinx_contact_s2s.kernels import KernelBackend, polygon
 from dolfinx_contact_s2s.search import swept_boxes
 from dolfinx_contact_s2s.surface import SurfaceData
+
+_Array = npt.NDArray[np.float64]
+_Rows = npt.NDArray[np.int32]
 
 __all__ = [
     "SEGMENTATIONS",
     "IntervalSegmentation",
     "Pieces",
+    "PolygonPieces",
+    "PolygonSegmentation",
     "Segmentation",
     "SubSegments",
     "get_segmentation",
@@ -196,8 +202,157 @@ class IntervalSegmentation:
         return xi, length[:, None] * w_ref[None, :] * jac
 
 
-#: The segmentation of each facet dimension (1: edges of 2D cells).
-SEGMENTATIONS: dict[int, Segmentation] = {1: IntervalSegmentation()}
+@dataclass(frozen=True)
+class PolygonPieces:
+    r"""Triangles of the overlaps of contactor and target faces (Fig. 15(b) in 3D).
+
+    The :class:`~dolfinx_contact_s2s.segmentation.Pieces` of :class:`PolygonSegmentation`.
+    Piece ``s`` is a triangle of the contactor face's plane (origin and frame of
+    :func:`~dolfinx_contact_s2s.kernels.polygon.project_faces`) inside the overlap of the
+    contactor face ``contactor[s]`` with the target face ``target[s]``.
+
+    Attributes:
+        contactor: Row of each piece's contactor face, ``(S,)``.
+        target: Row of each piece's target face in the target data, ``(S,)``.
+        triangles: Vertices in plane coordinates, counter-clockwise, ``(S, 3, 2)``.
+        origin: Origin of each piece's plane, ``(S, 3)``.
+        frame: Rows :math:`e_1, e_2, n` of each piece's plane, ``(S, 3, 3)``.
+        gap: :math:`(x_T - x_C) \cdot n_C` at the triangle's centroid (Eq. 38), ``(S,)``.
+    """
+
+    contactor: _Rows
+    target: _Rows
+    triangles: _Array
+    origin: _Array
+    frame: _Array
+    gap: _Array
+
+    def __len__(self) -> int:
+        """Number of pieces."""
+        return self.contactor.size
+
+
+def _pull_back(
+    contactor: SurfaceData, rows: _Rows, x: _Array, frame: _Array
+) -> tuple[_Array, _Array, _Array]:
+    """Contactor reference coordinates, normals and area ratios of plane points ``x``."""
+    xi, _ = polygon.intersect(contactor.coefficients, rows, x, frame[:, 2], name="contactor face")
+    _, dx = polygon.evaluate(contactor.coefficients, rows, xi)
+    area = np.cross(dx[:, :, 0], dx[:, :, 1])
+    jac = np.linalg.norm(area, axis=1)
+    normals = contactor.orientation[rows, None] * area / jac[:, None]
+    ratio = jac / np.abs(np.einsum("pg,pg->p", area, frame[:, 2]))
+    return xi, normals, ratio
+
+
+class PolygonSegmentation:
+    """Polygonal pieces of faces, the facets of 3D cells (section 5, Fig. 15(b)).
+
+    Each candidate pair of faces is drawn in the contactor face's plane, the overlap of
+    their corner polygons clipped and cut into triangles (the pieces), and a triangle
+    rule placed on each piece is pulled back to the contactor face. The geometry is the
+    NumPy one of :mod:`~dolfinx_contact_s2s.kernels.polygon`; the ``backend`` arguments
+    are not used.
+    """
+
+    facet_dim = 2
+
+    def sweep(self, contactor: SurfaceData, boxes: _Array, radius: float) -> _Array:
+        r"""The faces' boxes grown by ``radius`` on every side.
+
+        A point :math:`x` of a face moved to :math:`x \pm t n`, :math:`0 \le t \le r`,
+        stays within :math:`r` of :math:`x` in every coordinate, for curved and warped
+        faces alike: the simplest safe box (a flat face's prism needs only
+        :math:`r |n_g|` along axis :math:`g`).
+        """
+        out = boxes.copy()
+        out[:, 0] -= radius
+        out[:, 1] += radius
+        return out
+
+    def cut(
+        self,
+        contactor: SurfaceData,
+        target: SurfaceData,
+        ic: _Rows,
+        it: _Rows,
+        radius: float,
+        backend: typing.Any = None,
+    ) -> PolygonPieces:
+        r"""Clip the candidate pairs' corner polygons and triangulate the overlaps.
+
+        Pairs whose outward normals do not oppose are dropped
+        (:func:`~dolfinx_contact_s2s.kernels.polygon.project_faces`), and so are
+        triangles whose centroid is farther than ``radius`` from the target face along
+        the contactor normal (Eq. 38).
+        """
+        C, T = contactor, target
+        ic = np.asarray(ic, dtype=np.int32)
+        it = np.asarray(it, dtype=np.int32)
+        if ic.size == 0:  # A process without candidates (or without contactor faces).
+            none = np.zeros(0, dtype=np.int32)
+            return PolygonPieces(
+                none, none, np.zeros((0, 3, 2)), np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0)
+            )
+        origin, frame, c_poly, t_poly, facing = polygon.project_faces(
+            C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it
+        )
+        tris, pairs = [np.zeros((0, 3, 2))], [np.zeros(0, dtype=np.int32)]
+        for p in np.flatnonzero(facing):
+            triangles = polygon.triangulate(polygon.clip_convex(t_poly[p], c_poly[p]))
+            tris.append(triangles)
+            pairs.append(np.full(triangles.shape[0], p, dtype=np.int32))
+        triangles, pair = np.concatenate(tris), np.concatenate(pairs)
+        f, o = frame[pair], origin[pair]
+        centroid = o + np.einsum("sd,sdg->sg", triangles.mean(axis=1), f[:, :2])
+        xi, normals, _ = _pull_back(C, ic[pair], centroid, f)
+        x_c, _ = polygon.evaluate(C.coefficients, ic[pair], xi)
+        _, gap = polygon.intersect(T.coefficients, it[pair], x_c, normals, name="target face")
+        keep = np.abs(gap) <= radius
+        return PolygonPieces(
+            ic[pair][keep], it[pair][keep], triangles[keep], o[keep], f[keep], gap[keep]
+        )
+
+    def points(
+        self,
+        contactor: SurfaceData,
+        pieces: PolygonPieces,
+        rule: tuple[_Array, _Array],
+        backend: typing.Any = None,
+    ) -> tuple[_Array, _Array]:
+        r"""A triangle rule on each piece, pulled back to the contactor face (Eq. 40).
+
+        Args:
+            contactor: The contactor faces.
+            pieces: The pieces of :meth:`cut`.
+            rule: Points ``(Q, 2)`` and weights ``(Q,)`` on the reference triangle
+                (``basix.make_quadrature(basix.CellType.triangle, degree)``).
+            backend: Unused.
+
+        Returns:
+            ``(xi, weights)``: contactor reference coordinates ``(S, Q, 2)``, found along
+            the plane's normal, and the weights :math:`w^i` of Eq. (40) ``(S, Q)``: the
+            rule's weight times twice the triangle's area times the ratio of the face's
+            area element to the plane's.
+        """
+        X, W = (np.asarray(r, dtype=np.float64) for r in rule)
+        t = pieces.triangles
+        a, ab, ac = t[:, 0], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+        plane = a[:, None] + X[None, :, :1] * ab[:, None] + X[None, :, 1:] * ac[:, None]
+        det = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
+        S, Q = len(pieces), W.size
+        if S == 0:
+            return np.zeros((0, Q, 2)), np.zeros((0, Q))
+        x = pieces.origin[:, None] + np.einsum("sqd,sdg->sqg", plane, pieces.frame[:, :2])
+        rows = np.repeat(pieces.contactor, Q)
+        xi, _, ratio = _pull_back(
+            contactor, rows, x.reshape(-1, 3), np.repeat(pieces.frame, Q, axis=0)
+        )
+        return xi.reshape(S, Q, 2), det[:, None] * W[None, :] * ratio.reshape(S, Q)
+
+
+#: The segmentation of each facet dimension (1: edges of 2D cells, 2: faces of 3D cells).
+SEGMENTATIONS: dict[int, Segmentation] = {1: IntervalSegmentation(), 2: PolygonSegmentation()}
 
 
 def get_segmentation(facet_dim: int) -> Segmentation:

@@ -13,7 +13,10 @@ Facets are parametrised by :math:`\xi \in [0, 1]` along the straight reference
 facet, :math:`X(\xi) = X_a + \xi (X_b - X_a)`, where :math:`X_a, X_b` are the
 reference vertices of the facet in Basix numbering; the physical facet is the
 image of that segment under the cell's coordinate map, so quadratic (curved)
-geometry is handled exactly.
+geometry is handled exactly. Faces of 3D cells (tetrahedra, hexahedra) are parametrised
+by the reference coordinates :math:`(\xi_1, \xi_2)` of Basix's Lagrange element on the
+face, and their geometry is their nodes in that element's order
+(:mod:`dolfinx_contact_s2s.faces`).
 """
 
 from __future__ import annotations
@@ -27,24 +30,12 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
+from dolfinx_contact_s2s import faces
+from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap, tabulate
 from dolfinx_contact_s2s.kernels import get_backend
+from dolfinx_contact_s2s.kernels.numpy_backend import DEGENERATE_TOLERANCE
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "facet_monomials", "tabulate"]
-
-
-def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
-    """Tabulate a scalar Basix-UFL element, also at zero points.
-
-    Returns:
-        Array ``(num_derivatives, num_points, num_dofs)``.
-    """
-    X = np.ascontiguousarray(X, dtype=np.float64)
-    if X.shape[0] == 0:
-        tdim = X.shape[1]
-        count = (derivatives + 1) if tdim == 1 else (derivatives + 1) * (derivatives + 2) // 2
-        return np.zeros((count, 0, element.dim))
-    return element.tabulate(derivatives, X)
 
 
 def facet_monomials(
@@ -138,8 +129,9 @@ class ContactSurface:
             ValueError: On every rank, if no process holds a facet with ``tag``, if a
                 tagged facet is not on the mesh boundary, if ``facet_tags`` belong to
                 another mesh, if ``V`` is not a vector Lagrange space on a 2D triangle or
-                quadrilateral mesh in the plane, or if a tagged facet has a node with NaN
-                or infinite coordinates or zero length (no normal, Eq. 38).
+                quadrilateral mesh in the plane or a 3D tetrahedron or hexahedron mesh,
+                or if a tagged facet has a node with NaN or infinite coordinates or zero
+                length or area (no normal, Eq. 38).
         """
         mesh = V.mesh
         comm = mesh.comm
@@ -155,11 +147,12 @@ class ContactSurface:
                 "mesh V is built on"
             )
         cell_name = mesh.topology.cell_name()
-        if tdim != 2 or mesh.geometry.dim != 2 or cell_name not in ("triangle", "quadrilateral"):
+        cells_of = {2: ("triangle", "quadrilateral"), 3: ("tetrahedron", "hexahedron")}
+        if mesh.geometry.dim != tdim or cell_name not in cells_of.get(tdim, ()):
             raise ValueError(
                 f"contact surfaces are implemented for 2D triangle and quadrilateral meshes "
-                f"in the plane, not {cell_name} (tdim {tdim}, gdim {mesh.geometry.dim}); "
-                "create a 2D mesh with gdim=2"
+                f"in the plane and 3D tetrahedron and hexahedron meshes, not {cell_name} "
+                f"(tdim {tdim}, gdim {mesh.geometry.dim}); create a 2D mesh with gdim=2"
             )
         element = V.ufl_element()
         if element.block_size != mesh.geometry.dim:
@@ -210,36 +203,12 @@ class ContactSurface:
         self.backend = get_backend(backend, comm, facet_dim=fdim)
         # Scalar Basix element of the coordinate map (tabulates derivatives).
         self.cmap = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element())
-        ref_x = basix.geometry(self.cell_type)
-        facet_vertices = np.array(basix.topology(self.cell_type)[fdim])
-        self._ref_a = ref_x[facet_vertices[:, 0]]
-        self._ref_b = ref_x[facet_vertices[:, 1]]
-        self._ref_normals = np.asarray(basix.cell.facet_outward_normals(self.cell_type))
-        self._facet_basis = facet_monomials(self.cmap, self._ref_a, self._ref_b)
-        self._basis_table = facet_monomials(scalar, self._ref_a, self._ref_b)
-
-        # Relative to each cell's first node, so that the chord and curvature terms carry
-        # no round-off of the scene's position (a scene far from the origin); the basis is
-        # a partition of unity, so the origin adds to the constant term only.
-        # NaN or infinite nodes raise below, on every rank; no warnings on the way there.
         with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-            origin = coords[:, :1, :]
-            coefficients = self.backend.facet_coefficients(
-                self._facet_basis, local_facet, np.ascontiguousarray(coords - origin)
-            )
-            coefficients[:, 0, :] += origin[:, 0, :]
-            # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
-            rows = np.arange(cells.size, dtype=np.int32)
-            half = np.full(cells.size, 0.5)
-            X = self._ref_a[local_facet] + 0.5 * (
-                self._ref_b[local_facet] - self._ref_a[local_facet]
-            )
-            tab = tabulate(self.cmap, 1, X)
-            n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
-            _, dx = self.backend.evaluate(coefficients, rows, half)
-            turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
-            orientation = np.where(turn < 0.0, -1.0, 1.0)
-            _check_geometry(comm, tag, coords, coefficients, n)
+            # NaN or infinite nodes raise inside, on every rank; no warnings on the way.
+            if fdim == 2:
+                coefficients, orientation = self._face_geometry(coords, local_facet)
+            else:
+                coefficients, orientation = self._edge_geometry(coords, local_facet)
         self.data = SurfaceData(
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
@@ -251,6 +220,48 @@ class ContactSurface:
         self._gathered: tuple[SurfaceData, SurfaceData] | None = None
         self._near: tuple[SurfaceData | None, dict[bytes, SurfaceData]] = (None, {})
         self._gathered_boxes: dict[int, tuple[SurfaceData, int, npt.NDArray[np.floating]]] = {}
+
+    def _edge_geometry(
+        self, coords: npt.NDArray[np.floating], local_facet: npt.NDArray[np.int32]
+    ) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+        """Monomial coefficients and orientation signs of edges (facets of 2D cells)."""
+        ref_x = basix.geometry(self.cell_type)
+        facet_vertices = np.array(basix.topology(self.cell_type)[1])
+        self._ref_a = ref_x[facet_vertices[:, 0]]
+        self._ref_b = ref_x[facet_vertices[:, 1]]
+        self._ref_normals = np.asarray(basix.cell.facet_outward_normals(self.cell_type))
+        self._facet_basis = facet_monomials(self.cmap, self._ref_a, self._ref_b)
+        self._basis_table = facet_monomials(self.element, self._ref_a, self._ref_b)
+        # Relative to each cell's first node, so that the chord and curvature terms carry
+        # no round-off of the scene's position (a scene far from the origin); the basis is
+        # a partition of unity, so the origin adds to the constant term only.
+        origin = coords[:, :1, :]
+        coefficients = self.backend.facet_coefficients(
+            self._facet_basis, local_facet, np.ascontiguousarray(coords - origin)
+        )
+        coefficients[:, 0, :] += origin[:, 0, :]
+        # The sign turning tangents into outward normals, from J^-T n_ref once per facet.
+        rows = np.arange(local_facet.size, dtype=np.int32)
+        half = np.full(local_facet.size, 0.5)
+        X = self._ref_a[local_facet] + 0.5 * (self._ref_b[local_facet] - self._ref_a[local_facet])
+        tab = tabulate(self.cmap, 1, X)
+        n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
+        _, dx = self.backend.evaluate(coefficients, rows, half)
+        turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
+        _check_geometry(self.comm, self.tag, coords, coefficients, n)
+        return coefficients, np.where(turn < 0.0, -1.0, 1.0)
+
+    def _face_geometry(
+        self, coords: npt.NDArray[np.floating], local_facet: npt.NDArray[np.int32]
+    ) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+        """Face nodes in the face element's order and orientation signs (faces of 3D cells)."""
+        self._ref_vertices = faces.reference_vertices(self.cell_type)
+        nodes = self.backend.facet_coefficients(
+            faces.face_node_order(self.cmap), local_facet, coords
+        )
+        orientation, oriented = faces.face_orientation(self.cmap, coords, local_facet, nodes)
+        faces.check_faces(self.comm, self.tag, coords, nodes, oriented)
+        return nodes, orientation
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).
@@ -345,6 +356,9 @@ class ContactSurface:
     ) -> npt.NDArray[np.floating]:
         r"""Reference-cell coordinates :math:`X(\xi)` of points on facets ``rows``."""
         lf = data.local_facet[rows]
+        if self.facet_dim == 2:
+            v = self._ref_vertices[lf]
+            return v[:, 0] + xi[:, :1] * (v[:, 1] - v[:, 0]) + xi[:, 1:2] * (v[:, 2] - v[:, 0])
         a, b = self._ref_a[lf], self._ref_b[lf]
         return a + xi[:, None] * (b - a)
 
@@ -391,6 +405,12 @@ class ContactSurface:
         monomial coefficients along each reference facet (no tabulation).
         """
         xi = np.ascontiguousarray(xi, dtype=np.float64)
+        if self.facet_dim == 2:
+            # As facet_monomials does on edges: Basix's round-off on the functions of the
+            # dofs off the face would couple those dofs.
+            table = tabulate(self.element, 0, self.reference_points(data, rows, xi))[0]
+            table[np.abs(table) < 1e-12] = 0.0
+            return table
         return self.backend.facet_basis(self._basis_table, data.local_facet[rows], xi)
 
     def project(
@@ -456,7 +476,10 @@ class ContactSurface:
         return self.backend.bounding_boxes(data.coefficients, samples, 0.25)
 
     def sizes(self, data: SurfaceData) -> npt.NDArray[np.floating]:
-        """Chord length of each facet."""
+        """Chord length of each facet (of a face: the longest distance between its nodes)."""
+        if self.facet_dim == 2:
+            c = data.coefficients
+            return np.max(np.linalg.norm(c[:, :, None] - c[:, None, :], axis=-1), axis=(1, 2))
         n = len(data)
         rows = np.arange(n, dtype=np.int32)
         _, x0, _ = self.evaluate(data, rows, np.zeros(n))
@@ -489,10 +512,6 @@ def _cpp(obj):
 #: Regions of :meth:`ContactSurface.gather_near` kept per surface (one per pair that
 #: shares the surface as a target, in the scenes of this package).
 NEAR_REGIONS = 4
-
-#: A contact facet whose chord is shorter than this fraction of its cell's extent is
-#: degenerate (two nodes coincide): it has no normal.
-DEGENERATE_TOLERANCE = 1e-12
 
 
 def _check_geometry(
@@ -566,8 +585,10 @@ def contact_surface(
         ValueError: On every rank: no process holds a facet marked ``tag``; a tagged
             facet is not on the boundary; ``facet_tags`` are not facet tags or belong
             to another mesh; ``V`` is not a vector Lagrange space of degree 1 or 2 on a
-            2D triangle or quadrilateral mesh in the plane; a tagged facet has a node
-            with NaN or infinite coordinates, or zero length; an unknown ``backend``.
+            2D triangle or quadrilateral mesh in the plane or a 3D tetrahedron or
+            hexahedron mesh; a tagged facet has a node with NaN or infinite coordinates,
+            or zero length or area; an unknown ``backend`` (faces: ``"c"`` too, they
+            have NumPy kernels only).
         RuntimeError: On every rank, if ``backend="c"`` cannot be compiled.
     """
     return ContactSurface(V, facet_tags, tag, backend=backend)

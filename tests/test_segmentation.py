@@ -115,10 +115,10 @@ def test_uncut_segmentation_passes_the_matching_patch_test(monkeypatch, cell):
 
 def test_unregistered_facet_dimension_is_refused(monkeypatch):
     """No segmentation or kernels for a dimension: NotImplementedError naming it."""
-    with pytest.raises(NotImplementedError, match="dimension 2"):
-        get_segmentation(2)
-    with pytest.raises(NotImplementedError, match="dimension 2"):
-        get_backend("numpy", MPI.COMM_WORLD, facet_dim=2)
+    with pytest.raises(NotImplementedError, match="dimension 3"):
+        get_segmentation(3)
+    with pytest.raises(NotImplementedError, match="dimension 3"):
+        get_backend("numpy", MPI.COMM_WORLD, facet_dim=3)
     scene = patch_test(MPI.COMM_WORLD, (4, 3))
     surf = _surfaces(scene, 1)
     monkeypatch.delitem(SEGMENTATIONS, 1)

@@ -25,7 +25,13 @@ import ufl
 from dolfinx_contact_s2s.options import PETScOptions
 from dolfinx_contact_s2s.pair import ContactPair
 
-__all__ = ["SOLVER_TYPE_KEYS", "check_problem_arguments", "check_solver_types", "check_stiffness"]
+__all__ = [
+    "SOLVER_TYPE_KEYS",
+    "check_inequality_multipliers",
+    "check_problem_arguments",
+    "check_solver_types",
+    "check_stiffness",
+]
 
 #: The options whose value names a PETSc implementation, checked by
 #: :func:`check_solver_types`, and the PETSc class that registers it.
@@ -243,3 +249,29 @@ def check_stiffness(
                     f"of K on its free dofs: {hi:.3g}): check E in your form a[{i}] (a zero "
                     "Young's modulus, or a material coefficient that vanishes on this body)"
                 )
+
+
+def check_inequality_multipliers(pairs: Sequence[ContactPair]) -> None:
+    r"""Refuse multiplier bases that unilateral contact cannot use (collective).
+
+    The contact conditions of Eq. (1) act on each multiplier and its weighted gap
+    :math:`\int \mu_k g`. A basis function with :math:`\int \mu_k = 0`, as the vertex
+    functions of a P2 triangle (faces of quadratic tetrahedra), transmits no force under
+    a uniform pressure and its sign says nothing about contact: the active set is then
+    meaningless and the answer wrong without a word.
+
+    Raises:
+        ValueError: On every rank, naming the pair and the remedies.
+    """
+    for j, pair in enumerate(pairs):
+        integrals, squares = pair.multiplier_integrals(), pair.multiplier_supports()
+        # Relative to the square's integral: 2 for a P1 triangle's function, 0 for a P2 vertex.
+        count = int(np.count_nonzero(integrals <= 1e-8 * squares))
+        count = pair.contactor.comm.allreduce(count, op=MPI.SUM)
+        if count:
+            raise ValueError(
+                f"pair {j}: {count} multiplier basis functions integrate to zero (the vertex "
+                "functions of the P2 multiplier on triangular faces): unilateral contact "
+                "cannot use them. Use a P1 multiplier, contact_pair(..., multiplier="
+                "('Lagrange', 1)), hexahedra (Q2) for the contactor, or tied contact"
+            )

@@ -38,7 +38,7 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels import numpy_backend
+from dolfinx_contact_s2s.kernels import face_backend, numpy_backend
 
 __all__ = ["BACKENDS", "ENV_BACKEND", "FACET_DIMS", "KernelBackend", "get_backend"]
 
@@ -48,8 +48,9 @@ BACKENDS = ("numpy", "c")
 #: Environment variable naming the backend that ``"auto"`` picks.
 ENV_BACKEND = "S2S_KERNEL_BACKEND"
 
-#: Topological dimensions of the facets that have kernels (1: edges of 2D cells).
-FACET_DIMS = (numpy_backend.FACET_DIM,)
+#: Topological dimensions of the facets that have kernels (1: edges of 2D cells, 2: faces
+#: of 3D cells, NumPy only: :mod:`~dolfinx_contact_s2s.kernels.face_backend`).
+FACET_DIMS = (numpy_backend.FACET_DIM, face_backend.FACET_DIM)
 
 _logger = logging.getLogger(__name__)
 _noticed = False
@@ -151,6 +152,10 @@ class KernelBackend(typing.Protocol):
         """Axis-aligned boxes of the facets."""
         ...
 
+    def shift(self, coefficients: _Array, offset: _Array) -> _Array:
+        """The facets' geometry moved by one offset per facet."""
+        ...
+
     def coo_to_csr(
         self,
         num_rows: int,
@@ -186,8 +191,14 @@ def get_backend(
     if facet_dim not in FACET_DIMS:
         raise NotImplementedError(
             f"no contact kernels for facets of dimension {facet_dim}; implemented: "
-            f"{FACET_DIMS} (the edges of 2D cells)"
+            f"{FACET_DIMS} (the edges of 2D cells, the faces of 3D cells)"
         )
+    if facet_dim == face_backend.FACET_DIM:
+        if name == "c":
+            raise ValueError("no compiled kernels for faces yet: use backend='numpy' or 'auto'")
+        if name not in (*BACKENDS, "auto"):
+            raise ValueError(f"unknown kernel backend {name!r}; choose from {BACKENDS} or 'auto'")
+        return typing.cast(KernelBackend, face_backend)
     chosen = name
     if name == "auto":
         chosen = os.environ.get(ENV_BACKEND, "").strip().lower() or "auto"

@@ -27,7 +27,7 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels.numpy_backend import FACET_DIM, NEWTON_TOL, ROUND_OFF
+from dolfinx_contact_s2s.kernels.numpy_backend import FACET_DIM, NEWTON_TOL, ROUND_OFF, shift
 
 __all__ = [
     "FACET_DIM",
@@ -48,6 +48,7 @@ __all__ = [
     "outward_normals",
     "project",
     "segment_to_segment",
+    "shift",
     "triangulate_polygons",
 ]
 

@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "DEGENERATE_TOLERANCE",
     "FACET_DIM",
     "NEWTON_TOL",
     "ROUND_OFF",
@@ -40,6 +41,7 @@ __all__ = [
     "outward_normals",
     "project",
     "segment_to_segment",
+    "shift",
 ]
 
 _Array = npt.NDArray[np.float64]
@@ -54,6 +56,10 @@ NEWTON_TOL = 1e-10
 #: chord, in the facet parameter) is a sliver made by round-off, between nodes that
 #: coincide, and is dropped (:func:`clip_segments`).
 ROUND_OFF = 32 * np.finfo(np.float64).eps
+
+#: A contact facet whose chord (edges) or corner area (faces) is smaller than this
+#: fraction of its cell's extent (squared) is degenerate (nodes coincide): it has no normal.
+DEGENERATE_TOLERANCE = 1e-12
 
 #: Topological dimension of the facets these kernels handle: edges of 2D cells,
 #: parametrised by :math:`\xi \in [0, 1]`.
@@ -74,6 +80,13 @@ def facet_coefficients(basis: _Array, local_facet: npt.NDArray[np.int32], coords
         ``(F, p + 1, gdim)``.
     """
     return np.einsum("fmk,fkg->fmg", basis[local_facet], coords)
+
+
+def shift(coefficients: _Array, offset: _Array) -> _Array:
+    """The facets moved by ``offset`` ``(F, gdim)``: their constant coefficient (a new array)."""
+    moved = coefficients.copy()
+    moved[:, 0] += offset
+    return moved
 
 
 def _horner(c: _Array, xi: _Array) -> _Array:

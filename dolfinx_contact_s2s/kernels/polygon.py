@@ -63,6 +63,7 @@ __all__ = [
     "clip_convex",
     "clip_polygons",
     "evaluate",
+    "face_element",
     "intersect",
     "overlap_rule",
     "project_faces",
@@ -98,8 +99,8 @@ def _face_element(num_nodes: int) -> tuple[str, int]:
 
 
 @functools.lru_cache
-def _element(num_nodes: int) -> basix.finite_element.FiniteElement:
-    """The Basix element of faces with ``num_nodes`` geometry nodes."""
+def face_element(num_nodes: int) -> basix.finite_element.FiniteElement:
+    """The Basix Lagrange element of faces with ``num_nodes`` geometry nodes."""
     cell, degree = _face_element(num_nodes)
     return basix.create_element(
         basix.ElementFamily.P, basix.CellType[cell], degree, basix.LagrangeVariant.gll_warped
@@ -129,7 +130,7 @@ def evaluate(nodes: _Array, rows: _Rows, xi: _Array) -> tuple[_Array, _Array]:
         ``(x, dx)``: the points :math:`x(\xi)`, ``(P, 3)``, and the tangents
         :math:`\partial x / \partial \xi_d` as the columns of ``dx``, ``(P, 3, 2)``.
     """
-    element = _element(nodes.shape[1])
+    element = face_element(nodes.shape[1])
     if rows.size == 0:
         return np.zeros((0, 3)), np.zeros((0, 3, 2))
     table = element.tabulate(1, np.ascontiguousarray(xi, dtype=np.float64))[:, :, :, 0]

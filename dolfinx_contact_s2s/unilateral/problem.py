@@ -24,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
+from dolfinx_contact_s2s.checks.inputs import check_inequality_multipliers
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
 from dolfinx_contact_s2s.system import DEFAULT_OPTIONS
@@ -123,7 +124,8 @@ class UnilateralContactProblem(ContactProblemBase):
                 ``form_compiler_options``, ``jit_options``.
 
         Raises:
-            ValueError: For an unknown algorithm or start, or a bad parameter.
+            ValueError: For an unknown algorithm or start, or a bad parameter, or a
+                multiplier basis with functions of zero integral (P2 on triangular faces).
             TypeError: If ``a``, ``L``, ``pairs`` or ``bcs`` is not what it should be.
         """
         if algorithm not in ALGORITHMS:
@@ -149,6 +151,11 @@ class UnilateralContactProblem(ContactProblemBase):
         self.gaps = [dolfinx.fem.Function(p.Q, name=f"gap{j}") for j, p in enumerate(pairs)]
         self.history = ContactHistory(algorithm)
         self._complementarity: Complementarity | None = None
+        try:
+            check_inequality_multipliers(pairs)
+        except ValueError:
+            self.destroy()
+            raise
 
     def solver_defaults(self) -> dict[str, typing.Any]:
         """The defaults of every linear solve; with ``"snes-vi"`` also the SNES's."""

@@ -1,0 +1,143 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Array kernels of the contact assembly on faces, the facets of 3D cells (NumPy).
+
+The kernels of :mod:`~dolfinx_contact_s2s.kernels.numpy_backend` with the same names and
+meanings, for facets of topological dimension 2 (:data:`FACET_DIM`). A face's geometry
+("coefficients" in the interface of :class:`~dolfinx_contact_s2s.kernels.KernelBackend`)
+is its geometry nodes ``(F, K, 3)`` in the order of Basix's Lagrange element on the face
+(:data:`~dolfinx_contact_s2s.kernels.polygon.FACE_ELEMENTS`), and a facet parameter is a
+pair of reference coordinates :math:`\xi = (\xi_1, \xi_2)` of that element, so every
+``xi`` below has a trailing axis of length 2. The pieces of the composite rule
+(Fig. 15(b)) are cut by :mod:`~dolfinx_contact_s2s.kernels.polygon`; the coupling kernel
+of Eqs. (40)-(42) does not depend on the facet dimension and is shared.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from dolfinx_contact_s2s.kernels import polygon
+from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, coo_to_csr, segment_to_segment
+
+__all__ = [
+    "FACET_DIM",
+    "bounding_boxes",
+    "coo_to_csr",
+    "evaluate",
+    "facet_coefficients",
+    "intersect",
+    "outward_normals",
+    "segment_to_segment",
+    "shift",
+]
+
+#: Topological dimension of the facets these kernels handle (faces of 3D cells).
+FACET_DIM = 2
+
+_Array = npt.NDArray[np.float64]
+_Rows = npt.NDArray[np.int32]
+
+
+def facet_coefficients(nodes: npt.NDArray[np.int32], local_facet: _Rows, coords: _Array) -> _Array:
+    """The geometry nodes of each face, in the face element's order.
+
+    Args:
+        nodes: Cell geometry node of each face node, per local facet of the cell,
+            ``(num_cell_facets, K)``.
+        local_facet: Local index of each face in its cell, ``(F,)``.
+        coords: Geometry nodes of the faces' cells, ``(F, num_cell_nodes, 3)``.
+
+    Returns:
+        The face nodes, ``(F, K, 3)``.
+    """
+    index = nodes[local_facet]
+    return np.ascontiguousarray(np.take_along_axis(coords, index[:, :, None], axis=1))
+
+
+def shift(coefficients: _Array, offset: _Array) -> _Array:
+    """The faces moved by ``offset`` ``(F, 3)``: every node moves (a new array)."""
+    return coefficients + offset[:, None, :]
+
+
+def evaluate(
+    coefficients: _Array, rows: _Rows, xi: _Array, derivatives: int = 1
+) -> tuple[_Array, ...]:
+    r"""Points :math:`x(\xi)` ``(P, 3)`` and tangents :math:`\partial x/\partial \xi` ``(P, 3, 2)``.
+
+    Raises:
+        NotImplementedError: For second derivatives (no kernel of the faces uses them).
+    """
+    if derivatives != 1:
+        raise NotImplementedError("face kernels evaluate first derivatives only")
+    return polygon.evaluate(coefficients, rows, np.reshape(xi, (-1, 2)))
+
+
+def outward_normals(coefficients: _Array, orientation: _Array, rows: _Rows, xi: _Array) -> _Array:
+    r"""Unit outward normals: the orientation times :math:`\partial_1 x \times \partial_2 x`."""
+    _, dx = evaluate(coefficients, rows, xi)
+    n = np.cross(dx[:, :, 0], dx[:, :, 1])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    return orientation[rows, None] * n
+
+
+def intersect(
+    coefficients: _Array,
+    rows: _Rows,
+    origins: _Array,
+    directions: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> _Array:
+    r"""Reference coordinates where the lines ``origins + t directions`` cross the faces (Eq. 38).
+
+    Newton's method on :math:`x(\eta) - (o + t\, d) = 0`
+    (:func:`~dolfinx_contact_s2s.kernels.polygon.intersect`), ``(P, 2)``.
+    """
+    eta, _ = polygon.intersect(coefficients, rows, origins, directions, iterations, tol)
+    return eta
+
+
+def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
+    r"""Axis-aligned boxes ``(F, 2, 3)`` that contain the faces.
+
+    A P1 or Q1 face lies in the convex hull of its corners (a bilinear quadrilateral is a
+    convex combination of them). A P2 or Q2 face bulges beyond its midside nodes, but
+    lies in the hull of its *Bernstein control points* (the Bernstein polynomials are
+    nonnegative and sum to one): on an edge with ends :math:`a, b` and midside node
+    :math:`m` the control point is :math:`m + (m - (a + b)/2)`. The box of the control
+    points is therefore safe without sampling, and exact for flat faces. ``samples`` and
+    ``pad`` (the sampled boxes of curved edges in 2D) are not used.
+    """
+    F, K, _ = coefficients.shape
+    if F == 0:
+        return np.zeros((0, 2, 3))
+    control = coefficients
+    if K > 4:
+        face, degree = polygon.FACE_ELEMENTS[K]
+        inverse = np.linalg.inv(_bernstein(face, degree, polygon.face_element(K).points))
+        control = np.einsum("jk,fkg->fjg", inverse, coefficients)
+    return np.stack([control.min(axis=1), control.max(axis=1)], axis=1)
+
+
+def _bernstein(face: str, degree: int, s: _Array) -> _Array:
+    """Bernstein polynomials of a face at points ``s``, ``(P, (degree+1)...)`` in any order."""
+    if face == "triangle":
+        lam = np.stack([1.0 - s[:, 0] - s[:, 1], s[:, 0], s[:, 1]], axis=1)
+        powers = [(i, j, degree - i - j) for i in range(degree + 1) for j in range(degree + 1 - i)]
+        return np.stack(
+            [
+                math.factorial(degree)
+                / (math.factorial(a) * math.factorial(b) * math.factorial(c))
+                * lam[:, 0] ** a
+                * lam[:, 1] ** b
+                * lam[:, 2] ** c
+                for a, b, c in powers
+            ],
+            axis=1,
+        )
+    one = [math.comb(degree, i) * s**i * (1.0 - s) ** (degree - i) for i in range(degree + 1)]
+    return np.stack([u[:, 0] * v[:, 1] for u in one for v in one], axis=1)
