@@ -33,7 +33,13 @@ from dolfinx_contact_s2s.compat import tabulate
 from dolfinx_contact_s2s.kernels import polygon
 from dolfinx_contact_s2s.kernels.numpy_backend import DEGENERATE_TOLERANCE
 
-__all__ = ["check_faces", "face_node_order", "face_orientation", "reference_vertices"]
+__all__ = [
+    "check_faces",
+    "face_node_order",
+    "face_orientation",
+    "raise_degenerate",
+    "reference_vertices",
+]
 
 _Array = npt.NDArray[np.float64]
 _Rows = npt.NDArray[np.int32]
@@ -157,20 +163,56 @@ def check_faces(
     finite = np.all(np.isfinite(nodes), axis=(1, 2)) & np.all(np.isfinite(coords), axis=(1, 2))
     with np.errstate(invalid="ignore", over="ignore"):
         flat = finite & ~(oriented & _corner_area_ok(nodes))
+    raise_degenerate(
+        comm,
+        tag,
+        finite,
+        flat,
+        nodes[:, 0],
+        "face",
+        "zero area (corner nodes coincide or lie on one line)",
+        "remove the degenerate cells",
+    )
+
+
+def raise_degenerate(
+    comm: MPI.Comm,
+    tag: int,
+    finite: npt.NDArray[np.bool_],
+    flat: npt.NDArray[np.bool_],
+    points: _Array,
+    entity: str,
+    what: str,
+    remedy: str,
+) -> None:
+    """Raise one message on every rank for facets with NaN nodes or without a normal.
+
+    Collective: one reduction of two counts; the point of the first facet without a
+    normal is gathered only when there is one.
+
+    Args:
+        comm: The mesh's communicator.
+        tag: The surface's tag.
+        finite: Whether each facet's cell has finite nodes.
+        flat: Whether each facet (with finite nodes) has no normal.
+        points: A point of each facet, named in the message.
+        entity: ``"facet"`` or ``"face"``.
+        what: What makes a facet degenerate, e.g. ``"zero length (two nodes coincide)"``.
+        remedy: What to do about it.
+    """
     bad = comm.allreduce(np.array([np.count_nonzero(~finite), np.count_nonzero(flat)]))
     if bad[0]:
         raise ValueError(
-            f"contact surface {tag}: the cells of {bad[0]} face(s) have a node with NaN or "
-            "infinite coordinates; check the mesh (mesh.geometry.x) and how it was built or "
-            "moved"
+            f"contact surface {tag}: the cells of {bad[0]} {entity}(s) have a node with NaN "
+            "or infinite coordinates; check the mesh (mesh.geometry.x) and how it was built "
+            "or moved"
         )
     if bad[1]:
-        where = nodes[flat, 0][:1]
-        first = next(w for w in comm.allgather(where) if w.size)[0]
+        first = next(w for w in comm.allgather(points[flat][:1]) if w.size)[0]
+        where = ", ".join(f"{c:.6g}" for c in first)
         raise ValueError(
-            f"contact surface {tag}: {bad[1]} face(s) have zero area (corner nodes coincide "
-            f"or lie on one line), the first at ({first[0]:.6g}, {first[1]:.6g}, "
-            f"{first[2]:.6g}): they have no normal; remove the degenerate cells"
+            f"contact surface {tag}: {bad[1]} {entity}(s) have {what}, the first at "
+            f"({where}): they have no normal; {remedy}"
         )
 
 

@@ -532,21 +532,16 @@ def _check_geometry(
     flat = finite & (
         ~(chord > DEGENERATE_TOLERANCE * extent) | ~np.all(np.isfinite(normals), axis=1)
     )
-    bad = comm.allreduce(np.array([np.count_nonzero(~finite), np.count_nonzero(flat)]))
-    if bad[0]:
-        raise ValueError(
-            f"contact surface {tag}: the cells of {bad[0]} facet(s) have a node with NaN or "
-            "infinite coordinates; check the mesh (mesh.geometry.x) and how it was built or "
-            "moved"
-        )
-    if bad[1]:
-        where = coefficients[flat, 0, :][:1]
-        first = next(w for w in comm.allgather(where) if w.size)[0]
-        raise ValueError(
-            f"contact surface {tag}: {bad[1]} facet(s) have zero length (two nodes "
-            f"coincide), the first at ({first[0]:.6g}, {first[1]:.6g}): they have no "
-            "normal; remove the duplicate nodes from the mesh"
-        )
+    faces.raise_degenerate(
+        comm,
+        tag,
+        finite,
+        flat,
+        coefficients[:, 0, :],
+        "facet",
+        "zero length (two nodes coincide)",
+        "remove the duplicate nodes from the mesh",
+    )
 
 
 def contact_surface(
