@@ -80,12 +80,15 @@ def scene(
     warp: bool = False,
     comm: MPI.Comm = COMM,
     tilt: float = 0.0,
+    E: float = E,
+    P: float = P,
 ):
     r"""Spaces, forms and boundary conditions of the two blocks (the user's own forms).
 
     ``cells`` across the lower and the upper block; ``seed``, ``layers`` and ``warp`` as
     :func:`block` takes them. With ``tilt`` the pressure on the top is
     :math:`P (1 - \text{tilt}\, x)`: no closed form, the contact opens where it pulls.
+    ``E`` (Young's modulus of both blocks) and ``P`` default to the module's constants.
     """
     spaces, a, L, bcs = [], [], [], []
     for z0, n, cell, loaded in ((0.0, cells[0], lower, False), (0.5, cells[1], upper, True)):
@@ -109,20 +112,22 @@ def scene(
     return spaces, a, L, bcs
 
 
-def exact(x):
+def exact(x, E: float = E, P: float = P):
     """Uniaxial stress under the pressure P: the displacement."""
     return np.stack([NU * P / E * x[0], NU * P / E * x[1], -P / E * x[2]])
 
 
-def errors(us, pressure) -> tuple[float, float]:
+def errors(us, pressure, E: float = E, P: float = P) -> tuple[float, float]:
     """Largest errors of the multipliers (against P) and displacements (uniaxial stress).
 
-    Collective: the maxima over all ranks.
+    ``E`` and ``P`` as :func:`scene` took them. Collective: the maxima over the ranks of
+    the meshes.
     """
     worst_p = np.max(np.abs(pressure.x.array - P), initial=0.0)
     worst_u = 0.0
     for u in us:
         expected = dolfinx.fem.Function(u.function_space)
-        expected.interpolate(exact)
+        expected.interpolate(lambda x: exact(x, E, P))
         worst_u = max(worst_u, float(np.max(np.abs(u.x.array - expected.x.array), initial=0.0)))
-    return COMM.allreduce(float(worst_p), op=MPI.MAX), COMM.allreduce(worst_u, op=MPI.MAX)
+    comm = pressure.function_space.mesh.comm
+    return comm.allreduce(float(worst_p), op=MPI.MAX), comm.allreduce(worst_u, op=MPI.MAX)
