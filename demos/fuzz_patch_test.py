@@ -41,20 +41,19 @@ import json
 import platform
 import sys
 import time
-import traceback
 from pathlib import Path
 
 from mpi4py import MPI
 
 import dolfinx
-from hypothesis import HealthCheck, Phase, settings
 
 from paper.fuzz import (
     BOUND_CEILING,
     FuzzCase,
     cases,
     check_case,
-    run_drawn_cases,
+    guarded,
+    run_campaign,
 )
 from paper.report import write_section
 
@@ -83,7 +82,8 @@ def reproduce(case: FuzzCase) -> str:
 
 def run_case(case: FuzzCase) -> tuple[dict, str | None]:
     """Check one case; a failure's message, the same on every rank (or None)."""
-    try:
+
+    def check() -> tuple[dict, str | None]:
         result = check_case(case, comm, prefix="fuzz_demo_")
         record = {
             "ratio": result.ratio,
@@ -95,13 +95,9 @@ def run_case(case: FuzzCase) -> tuple[dict, str | None]:
             "backward_error": result.backward_error,
             "unknowns": result.unknowns,
         }
-        message = None if result.passed else f"error above its round-off bound: {record}"
-    except Exception as error:  # every failure is recorded, the campaign goes on
-        record = {}
-        message = "".join(traceback.format_exception_only(error)).strip()
-    # An exception on one rank only is a failure on all of them.
-    messages = [m for m in comm.allgather(message) if m is not None]
-    return record, (messages[0] if messages else None)
+        return record, None if result.passed else f"error above its round-off bound: {record}"
+
+    return guarded(comm, check)
 
 
 # -
@@ -131,14 +127,13 @@ state = {
     "loose": 0,
 }
 mix: dict[str, int] = {}
-chunk_seed = args.seed
 
 
 def count(key: str) -> None:
     mix[key] = mix.get(key, 0) + 1
 
 
-def visit(case: FuzzCase) -> float | None:
+def visit(case: FuzzCase, chunk_seed: int) -> float | None:
     record, failure = run_case(case)
     state["cases"] += 1
     count("one mesh" if case.one_mesh else "two meshes")
@@ -167,31 +162,18 @@ def visit(case: FuzzCase) -> float | None:
 
 
 start = time.perf_counter()
-chunks = 0
-while state["cases"] < args.cases:
-    n = min(args.chunk, args.cases - state["cases"])
-    chunk_settings = settings(
-        max_examples=n,
-        derandomize=False,
-        database=None,
-        deadline=None,
-        suppress_health_check=list(HealthCheck),
-        phases=[Phase.generate, Phase.target],
-        print_blob=False,
-    )
-    before = state["cases"]
-    # Hypothesis draws on rank 0 only; every rank checks the case it drew.
-    run_drawn_cases(comm, strategy, visit, chunk_settings, seed=chunk_seed)
-    chunks += 1
-    if state["cases"] == before:  # Hypothesis found nothing new to draw
-        break
+
+
+def progress(drawn: int) -> None:
     worst = state["worst"]["ratio"] if state["worst"] else float("nan")
     log(
-        f"fuzz [{comm.size} rank(s)] {state['cases']}/{args.cases} cases, "
+        f"fuzz [{comm.size} rank(s)] {drawn}/{args.cases} cases, "
         f"{len(state['failures'])} failure(s), worst error/bound {worst:.3g}, "
         f"largest condition {state['condition']:.2g}, {time.perf_counter() - start:.0f} s"
     )
-    chunk_seed += 1
+
+
+_, last_seed = run_campaign(comm, strategy, visit, args.cases, args.chunk, args.seed, progress)
 seconds = time.perf_counter() - start
 # -
 
@@ -209,7 +191,7 @@ record = {
     "largest_pressure_bound": state["pressure_bound"],
     "pressure_bound_above_1e-5": state["loose"],
     "mix": dict(sorted(mix.items())),
-    "seeds": [args.seed, chunk_seed - 1],
+    "seeds": [args.seed, last_seed],
     "chunk": args.chunk,
     "limits": {
         "max_elements": args.max_elements,

@@ -42,15 +42,13 @@ import json
 import platform
 import sys
 import time
-import traceback
 from pathlib import Path
 
 from mpi4py import MPI
 
 import dolfinx
-from hypothesis import HealthCheck, Phase, settings
 
-from paper.fuzz import run_drawn_cases
+from paper.fuzz import guarded, run_campaign
 from paper.fuzz3d import TOLERANCE, FuzzCase3D, cases, check_case
 from paper.report import write_section
 
@@ -78,7 +76,8 @@ def reproduce(case: FuzzCase3D) -> str:
 
 def run_case(case: FuzzCase3D) -> tuple[dict, str | None]:
     """Check one case; a failure's message, the same on every rank (or None)."""
-    try:
+
+    def check() -> tuple[dict, str | None]:
         result = check_case(case, comm, prefix="fuzz3d_demo_")
         record = {
             "ratio": result.ratio,
@@ -88,13 +87,9 @@ def run_case(case: FuzzCase3D) -> tuple[dict, str | None]:
             "relative_displacement_error": result.displacement_error * case.E / case.P,
             "unknowns": result.unknowns,
         }
-        message = None if result.passed else f"error above its tolerance: {record}"
-    except Exception as error:  # every failure is recorded, the campaign goes on
-        record = {}
-        message = "".join(traceback.format_exception_only(error)).strip()
-    # An exception on one rank only is a failure on all of them.
-    messages = [m for m in comm.allgather(message) if m is not None]
-    return record, (messages[0] if messages else None)
+        return record, None if result.passed else f"error above its tolerance: {record}"
+
+    return guarded(comm, check)
 
 
 # -
@@ -116,14 +111,13 @@ strategy = cases(args.max_cells, args.max_layers)
 state = {"cases": 0, "failures": [], "worst": None, "pressure": 0.0, "displacement": 0.0}
 state["unknowns"] = 0
 mix: dict[str, int] = {}
-chunk_seed = args.seed
 
 
 def count(key: str) -> None:
     mix[key] = mix.get(key, 0) + 1
 
 
-def visit(case: FuzzCase3D) -> float | None:
+def visit(case: FuzzCase3D, chunk_seed: int) -> float | None:
     record, failure = run_case(case)
     state["cases"] += 1
     count(f"{case.lower}/{case.upper} P{case.degree}")
@@ -148,29 +142,18 @@ def visit(case: FuzzCase3D) -> float | None:
 
 
 start = time.perf_counter()
-while state["cases"] < args.cases:
-    n = min(args.chunk, args.cases - state["cases"])
-    chunk_settings = settings(
-        max_examples=n,
-        derandomize=False,
-        database=None,
-        deadline=None,
-        suppress_health_check=list(HealthCheck),
-        phases=[Phase.generate, Phase.target],
-        print_blob=False,
-    )
-    before = state["cases"]
-    # Hypothesis draws on rank 0 only; every rank checks the case it drew.
-    run_drawn_cases(comm, strategy, visit, chunk_settings, seed=chunk_seed)
-    if state["cases"] == before:  # Hypothesis found nothing new to draw
-        break
+
+
+def progress(drawn: int) -> None:
     worst = state["worst"]["ratio"] if state["worst"] else float("nan")
     log(
-        f"fuzz 3D [{comm.size} rank(s)] {state['cases']}/{args.cases} cases, "
+        f"fuzz 3D [{comm.size} rank(s)] {drawn}/{args.cases} cases, "
         f"{len(state['failures'])} failure(s), worst error/tolerance {worst:.3g}, "
         f"{time.perf_counter() - start:.0f} s"
     )
-    chunk_seed += 1
+
+
+_, last_seed = run_campaign(comm, strategy, visit, args.cases, args.chunk, args.seed, progress)
 seconds = time.perf_counter() - start
 # -
 
@@ -187,7 +170,7 @@ record = {
     "largest_relative_displacement_error": state["displacement"],
     "largest_unknowns": state["unknowns"],
     "mix": dict(sorted(mix.items())),
-    "seeds": [args.seed, chunk_seed - 1],
+    "seeds": [args.seed, last_seed],
     "chunk": args.chunk,
     "limits": {"max_cells": args.max_cells, "max_layers": args.max_layers},
     "seconds": seconds,

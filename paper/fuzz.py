@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import traceback
 import typing
 from dataclasses import asdict, dataclass
 
@@ -51,6 +52,8 @@ __all__ = [
     "build_problem",
     "cases",
     "check_case",
+    "guarded",
+    "run_campaign",
     "run_drawn_cases",
 ]
 
@@ -590,3 +593,76 @@ def run_drawn_cases(
     if reasons:
         rank, message = reasons[0]
         raise AssertionError(f"the drawn cases failed on rank {rank}: {message}")
+
+
+def guarded(
+    comm: MPI.Comm, check: typing.Callable[[], tuple[dict, str | None]]
+) -> tuple[dict, str | None]:
+    """``check()``'s record and failure message, the same on every rank (collective).
+
+    An exception is a failure (the campaign goes on), and a failure on one rank only is a
+    failure on all of them.
+    """
+    try:
+        record, message = check()
+    except Exception as error:  # every failure is recorded
+        record, message = {}, "".join(traceback.format_exception_only(error)).strip()
+    messages = [m for m in comm.allgather(message) if m is not None]
+    return record, (messages[0] if messages else None)
+
+
+def run_campaign(
+    comm: MPI.Comm,
+    strategy: typing.Any,
+    visit: typing.Callable[[typing.Any, int], float | None],
+    cases: int,
+    chunk: int,
+    seed: int,
+    progress: typing.Callable[[int], None],
+) -> tuple[int, int]:
+    """Draw ``cases`` cases in chunks, each a Hypothesis run of its own seed (collective).
+
+    Chunk ``k`` is seeded ``seed + k`` and runs :func:`run_drawn_cases`; nothing is
+    shrunk (Hypothesis shrinks against a wall clock that the ranks would not share).
+
+    Args:
+        comm: The communicator the checks are collective on.
+        strategy: The Hypothesis strategy of the cases.
+        visit: Checks one case, given the chunk's seed; returns Hypothesis's target, or
+            None for a failure.
+        cases: How many cases to draw.
+        chunk: Cases per Hypothesis run.
+        seed: The seed of the first chunk.
+        progress: Called with the number of cases drawn after each chunk.
+
+    Returns:
+        The number of cases drawn (fewer than ``cases`` if Hypothesis ran out of new ones)
+        and the seed of the last chunk that drew one.
+    """
+    from hypothesis import HealthCheck, Phase, settings
+
+    drawn, chunk_seed, count = 0, seed, [0]
+
+    def body(case: typing.Any) -> float | None:
+        count[0] += 1
+        return visit(case, chunk_seed)
+
+    while drawn < cases:
+        chunk_settings = settings(
+            max_examples=min(chunk, cases - drawn),
+            derandomize=False,
+            database=None,
+            deadline=None,
+            suppress_health_check=list(HealthCheck),
+            phases=[Phase.generate, Phase.target],
+            print_blob=False,
+        )
+        count[0] = 0
+        # Hypothesis draws on rank 0 only; every rank checks the case it drew.
+        run_drawn_cases(comm, strategy, body, chunk_settings, seed=chunk_seed)
+        if count[0] == 0:  # Hypothesis found nothing new to draw
+            break
+        drawn += count[0]
+        progress(drawn)
+        chunk_seed += 1
+    return drawn, chunk_seed - 1
