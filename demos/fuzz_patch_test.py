@@ -36,12 +36,10 @@
 # (one record per rank count) and the section "fuzz" of `results/report.md`.
 
 # +
-import argparse
 import json
 import platform
 import sys
 import time
-from pathlib import Path
 
 from mpi4py import MPI
 
@@ -50,34 +48,28 @@ import dolfinx
 from paper.fuzz import (
     BOUND_CEILING,
     FuzzCase,
+    campaign_parser,
     cases,
     check_case,
     guarded,
+    rerun_command,
     run_campaign,
 )
-from paper.report import write_section
+from paper.report import rank0_print, write_section
 
 comm = MPI.COMM_WORLD
-parser = argparse.ArgumentParser(description="Randomized patch tests of composite S2S")
-parser.add_argument("--cases", type=int, default=200, help="number of cases to draw")
-parser.add_argument("--seed", type=int, default=0, help="seed of the first chunk")
-parser.add_argument("--chunk", type=int, default=50, help="cases per Hypothesis run")
+parser = campaign_parser("Randomized patch tests of composite S2S", 200)
 parser.add_argument("--max-elements", type=int, default=8, help="most elements per curve")
 parser.add_argument("--max-segments", type=int, default=3, help="most curves per edge")
 parser.add_argument("--max-layers", type=int, default=4, help="most elements across a block")
-parser.add_argument("--case", type=str, default=None, help="rerun one case (its JSON)")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
 args = parser.parse_args()
 
 
-def log(*words):
-    if comm.rank == 0:
-        print(*words, flush=True)
+log = rank0_print(comm)
 
 
-def reproduce(case: FuzzCase) -> str:
-    run = "python3" if comm.size == 1 else f"mpirun -n {comm.size} python3 -m mpi4py"
-    return f"{run} demos/fuzz_patch_test.py --case '{case.to_json()}'"
+def reproduce(case) -> str:
+    return rerun_command("demos/fuzz_patch_test.py", case, comm)
 
 
 def run_case(case: FuzzCase) -> tuple[dict, str | None]:

@@ -37,41 +37,31 @@
 # "fuzz_3d" of `results/report.md`.
 
 # +
-import argparse
 import json
 import platform
 import sys
 import time
-from pathlib import Path
 
 from mpi4py import MPI
 
 import dolfinx
 
-from paper.fuzz import guarded, run_campaign
+from paper.fuzz import campaign_parser, guarded, rerun_command, run_campaign
 from paper.fuzz3d import TOLERANCE, FuzzCase3D, cases, check_case
-from paper.report import write_section
+from paper.report import rank0_print, write_section
 
 comm = MPI.COMM_WORLD
-parser = argparse.ArgumentParser(description="Randomized 3D patch tests of composite S2S")
-parser.add_argument("--cases", type=int, default=100, help="number of cases to draw")
-parser.add_argument("--seed", type=int, default=0, help="seed of the first chunk")
-parser.add_argument("--chunk", type=int, default=50, help="cases per Hypothesis run")
+parser = campaign_parser("Randomized 3D patch tests of composite S2S", 100)
 parser.add_argument("--max-cells", type=int, default=6, help="most cells across a block")
 parser.add_argument("--max-layers", type=int, default=3, help="most cells across a height")
-parser.add_argument("--case", type=str, default=None, help="rerun one case (its JSON)")
-parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
 args = parser.parse_args()
 
 
-def log(*words):
-    if comm.rank == 0:
-        print(*words, flush=True)
+log = rank0_print(comm)
 
 
-def reproduce(case: FuzzCase3D) -> str:
-    run = "python3" if comm.size == 1 else f"mpirun -n {comm.size} python3 -m mpi4py"
-    return f"{run} demos/fuzz_patch_test_3d.py --case '{case.to_json()}'"
+def reproduce(case) -> str:
+    return rerun_command("demos/fuzz_patch_test_3d.py", case, comm)
 
 
 def run_case(case: FuzzCase3D) -> tuple[dict, str | None]:

@@ -26,11 +26,13 @@ thousands.
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import json
 import traceback
 import typing
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 from mpi4py import MPI
 
@@ -50,9 +52,11 @@ __all__ = [
     "FuzzCase",
     "Segment",
     "build_problem",
+    "campaign_parser",
     "cases",
     "check_case",
     "guarded",
+    "rerun_command",
     "run_campaign",
     "run_drawn_cases",
 ]
@@ -666,3 +670,23 @@ def run_campaign(
         progress(drawn)
         chunk_seed += 1
     return drawn, chunk_seed - 1
+
+
+def campaign_parser(description: str, cases: int) -> argparse.ArgumentParser:
+    """The command line of a fuzz campaign; a driver adds the limits of its cases.
+
+    ``--cases``, ``--seed``, ``--chunk``, ``--case`` (rerun one case, its JSON), ``--out``.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--cases", type=int, default=cases, help="number of cases to draw")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the first chunk")
+    parser.add_argument("--chunk", type=int, default=50, help="cases per Hypothesis run")
+    parser.add_argument("--case", type=str, default=None, help="rerun one case (its JSON)")
+    parser.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    return parser
+
+
+def rerun_command(script: str, case: typing.Any, comm: MPI.Comm) -> str:
+    """The command that reruns ``case`` with ``script`` on as many ranks as ``comm`` has."""
+    run = "python3" if comm.size == 1 else f"mpirun -n {comm.size} python3 -m mpi4py"
+    return f"{run} {script} --case '{case.to_json()}'"
