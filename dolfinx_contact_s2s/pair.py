@@ -44,8 +44,9 @@ from dolfinx_contact_s2s.axisymmetry import (
     check_axisymmetric_mesh,
     ring_weights,
 )
+from dolfinx_contact_s2s.contact_rule import contact_rule
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
-from dolfinx_contact_s2s.quadrature import RULES, interval_rule, triangle_rule
+from dolfinx_contact_s2s.quadrature import RULES
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
@@ -245,27 +246,10 @@ class ContactPair:
             family, degree = discretization.fixed_multiplier
             continuous = False
 
-        curved = contactor.cmap.degree - 1 + max((t.cmap.degree - 1 for t in targets), default=0)
-        k_u = max([k_c, *(t.element.degree for t in targets)])
-        # In axisymmetry the weight 2 pi r raises the integrand's degree by r's.
-        k_u += contactor.cmap.degree if self.axisymmetric else 0
-        if quadrature_points is None:
-            if quadrature.endswith("newton-cotes"):
-                quadrature_points = max(degree + k_u, 1) + 1
-            else:
-                quadrature_points = (degree + k_u + 2 * curved) // 2 + 1
-        self.quadrature_points = int(quadrature_points)
-        #: Points and weights of the rule on [0, 1] (edges), or on the reference triangle
-        #: (faces: on each sub-triangle of an overlap, exact for the multiplier times a
-        #: displacement function on flat faces: Q_k is of total degree 2k in the plane).
-        if contactor.facet_dim == 2:
-            quad = [2 if s.cell_type.name == "hexahedron" else 1 for s in (contactor, *targets)]
-            k_t = max(
-                q * s.element.degree for q, s in zip(quad, (contactor, *targets), strict=True)
-            )
-            self.rule = triangle_rule(quad[0] * degree + k_t + 2 * curved)
-        else:
-            self.rule = interval_rule(quadrature, self.quadrature_points)
+        #: The rule on [0, 1] (edges) or on each sub-triangle (faces), :func:`contact_rule`.
+        self.rule, self.quadrature_points, self.rule_degree, self.rule_error = contact_rule(
+            contactor, targets, quadrature, quadrature_points, degree, self.axisymmetric
+        )
 
         continuous, degree, variant = discretization.multiplier(
             continuous, degree, self.quadrature_points

@@ -62,6 +62,7 @@ __all__ = [
     "OverlapRule",
     "clip_convex",
     "clip_polygons",
+    "corner_nodes",
     "evaluate",
     "face_element",
     "intersect",
@@ -107,7 +108,7 @@ def face_element(num_nodes: int) -> basix.finite_element.FiniteElement:
     )
 
 
-def _corners(nodes: _Array) -> _Array:
+def corner_nodes(nodes: _Array) -> _Array:
     """The corner nodes of faces, counter-clockwise in the reference cell, ``(F, m, 3)``."""
     cell, _ = _face_element(nodes.shape[1])
     return nodes[:, _CORNERS[cell]]
@@ -223,7 +224,7 @@ def intersect(
 def _check_areas(nodes: _Array, rows: _Rows, round_off: float, name: str) -> None:
     """Raise a ValueError naming the first face of ``rows`` whose corners span no area."""
     faces = np.unique(rows)
-    corners = _corners(nodes[faces])
+    corners = corner_nodes(nodes[faces])
     rel = corners - corners.mean(axis=1, keepdims=True)
     area = 0.5 * np.linalg.norm(np.cross(rel, np.roll(rel, -1, axis=1)).sum(axis=1), axis=1)
     size = np.max(np.linalg.norm(rel, axis=2), axis=1)
@@ -277,8 +278,8 @@ def project_faces(
     """
     _check_areas(c_nodes, ic, round_off, "contactor face")
     _check_areas(t_nodes, it, round_off, "target face")
-    cc = _corners(c_nodes)[ic]
-    tc = _corners(t_nodes)[it]
+    cc = corner_nodes(c_nodes)[ic]
+    tc = corner_nodes(t_nodes)[it]
     origin = cc.mean(axis=1)
     cc = cc - origin[:, None]
     tc = tc - origin[:, None]
