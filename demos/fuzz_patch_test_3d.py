@@ -16,8 +16,9 @@
 # (Eq. 36). This script draws hundreds of such scenes with Hypothesis
 # (`paper.fuzz3d.cases`, on the scene of `paper.blocks3d`): tetrahedra or hexahedra per
 # block, P1/Q1 or P2/Q2, 2 to 6 cells across each block (different counts), 1 to 3
-# layers, structured meshes or nodes moved in the contact plane (hexahedra only by the
-# graded map that keeps their faces parallelograms), either contactor, tied or
+# layers, structured meshes or nodes moved in the contact plane (hexahedra by a graded map
+# that keeps their faces parallelograms, or at random: warped faces, on which the pair
+# raises its rule until it is exact), either contactor, tied or
 # unilateral contact, a multiplier of degree 1 or of the displacement's degree (P1 for
 # unilateral contact on P2 tetrahedral faces, which refuse P2 by design), and $E$ and
 # $P$ over four decades. Each is solved and compared with the exact solution to
@@ -113,7 +114,7 @@ def visit(case: FuzzCase3D, chunk_seed: int) -> float | None:
     count(f"{case.lower}/{case.upper} P{case.degree}")
     count(f"{case.problem} P{case.multiplier} multiplier")
     count(f"contactor {case.contactor}")
-    count("structured" if case.seed is None else "moved nodes")
+    count("structured" if case.seed is None else "warped" if case.warp else "moved nodes")
     if failure is not None:
         entry = {"seed": chunk_seed, "case": json.loads(case.to_json()), "message": failure}
         entry["command"] = reproduce(case)
@@ -178,8 +179,9 @@ if comm.rank == 0:
         "",
         "Composite segment-to-segment on faces between two random non-matching blocks",
         "(tetrahedra or hexahedra per block, P1/Q1 or P2/Q2, 2-6 cells across each,",
-        "1-3 layers, structured or with the contact plane's nodes moved, hexahedra only",
-        "by a map that keeps their faces parallelograms; either contactor; tied or",
+        "1-3 layers, structured or with the contact plane's nodes moved, hexahedra by",
+        "a map that keeps their faces parallelograms or at random (warped faces, the rule",
+        "raised until exact: `contact_rule.face_rule`); either contactor; tied or",
         "unilateral; multiplier P1 or of the displacement's degree; E and P over four",
         "decades). Pass: max abs(lambda - P) and max abs(u - u_exact) (Eq. 36) within the",
         f"round-off bound of the solve (`round_off_bound`, as in 2D), or {TOLERANCE:g} P and",
