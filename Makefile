@@ -68,8 +68,8 @@ bench-smoke:
 ## fuzz: randomized patch tests, FUZZ_CASES on 1 rank and FUZZ_CASES_MPI on 2 ranks
 ## -> results/fuzz.json and the fuzz section of results/report.md (failures with a command);
 ## in 3D FUZZ3D_CASES on 1 rank and FUZZ3D_CASES_MPI on 2 -> results/fuzz_3d.json and the
-## fuzz_3d section (measured on 2 shared cores: 500 cases on 1 rank 112-227 s,
-## 100 on 2 ranks 58 s)
+## fuzz_3d section (measured on 2 shared cores: 500 cases on 1 rank 112-266 s,
+## 100 on 2 ranks 58-209 s)
 FUZZ_CASES     ?= 1500
 FUZZ_CASES_MPI ?= 500
 FUZZ3D_CASES     ?= 500
