@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels import KernelBackend, polygon
+from dolfinx_contact_s2s.kernels import KernelBackend, face_backend, polygon
 from dolfinx_contact_s2s.search import swept_boxes
 from dolfinx_contact_s2s.surface import SurfaceData
 
@@ -233,11 +233,13 @@ class PolygonPieces:
 
 
 def _pull_back(
-    contactor: SurfaceData, rows: _Rows, x: _Array, frame: _Array
+    contactor: SurfaceData, rows: _Rows, x: _Array, frame: _Array, kernels: typing.Any
 ) -> tuple[_Array, _Array, _Array]:
     """Contactor reference coordinates, normals and area ratios of plane points ``x``."""
-    xi, _ = polygon.intersect(contactor.coefficients, rows, x, frame[:, 2], name="contactor face")
-    _, dx = polygon.evaluate(contactor.coefficients, rows, xi)
+    xi, _ = kernels.intersect_lines(
+        contactor.coefficients, rows, x, frame[:, 2], name="contactor face"
+    )
+    _, dx = kernels.evaluate(contactor.coefficients, rows, xi)
     area = np.cross(dx[:, :, 0], dx[:, :, 1])
     jac = np.linalg.norm(area, axis=1)
     normals = contactor.orientation[rows, None] * area / jac[:, None]
@@ -250,9 +252,12 @@ class PolygonSegmentation:
 
     Each candidate pair of faces is drawn in the contactor face's plane, the overlap of
     their corner polygons clipped and cut into triangles (the pieces), and a triangle
-    rule placed on each piece is pulled back to the contactor face. The geometry is the
-    NumPy one of :mod:`~dolfinx_contact_s2s.kernels.polygon`; the ``backend`` arguments
-    are not used.
+    rule placed on each piece is pulled back to the contactor face. All candidate pairs
+    are processed at once: projected together
+    (:func:`~dolfinx_contact_s2s.kernels.polygon.project_faces`), then clipped,
+    triangulated and pulled back by the ``backend``'s batched kernels
+    (:mod:`~dolfinx_contact_s2s.kernels.face_backend`, the NumPy reference, when None;
+    or the compiled :mod:`~dolfinx_contact_s2s.kernels.face_c_backend`).
     """
 
     facet_dim = 2
@@ -294,20 +299,19 @@ class PolygonSegmentation:
             return PolygonPieces(
                 none, none, np.zeros((0, 3, 2)), np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0)
             )
+        kernels = face_backend if backend is None else backend
         origin, frame, c_poly, t_poly, facing = polygon.project_faces(
             C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it
         )
-        tris, pairs = [np.zeros((0, 3, 2))], [np.zeros(0, dtype=np.int32)]
-        for p in np.flatnonzero(facing):
-            triangles = polygon.triangulate(polygon.clip_convex(t_poly[p], c_poly[p]))
-            tris.append(triangles)
-            pairs.append(np.full(triangles.shape[0], p, dtype=np.int32))
-        triangles, pair = np.concatenate(tris), np.concatenate(pairs)
+        facing_pairs = np.flatnonzero(facing).astype(np.int32)
+        overlaps, counts = kernels.clip_polygons(t_poly[facing_pairs], c_poly[facing_pairs])
+        triangles, owner = kernels.triangulate_polygons(overlaps, counts)
+        pair = facing_pairs[owner]
         f, o = frame[pair], origin[pair]
         centroid = o + np.einsum("sd,sdg->sg", triangles.mean(axis=1), f[:, :2])
-        xi, normals, _ = _pull_back(C, ic[pair], centroid, f)
-        x_c, _ = polygon.evaluate(C.coefficients, ic[pair], xi)
-        _, gap = polygon.intersect(T.coefficients, it[pair], x_c, normals, name="target face")
+        xi, normals, _ = _pull_back(C, ic[pair], centroid, f, kernels)
+        x_c, _ = kernels.evaluate(C.coefficients, ic[pair], xi)
+        _, gap = kernels.intersect_lines(T.coefficients, it[pair], x_c, normals, name="target face")
         keep = np.abs(gap) <= radius
         return PolygonPieces(
             ic[pair][keep], it[pair][keep], triangles[keep], o[keep], f[keep], gap[keep]
@@ -327,7 +331,7 @@ class PolygonSegmentation:
             pieces: The pieces of :meth:`cut`.
             rule: Points ``(Q, 2)`` and weights ``(Q,)`` on the reference triangle
                 (``basix.make_quadrature(basix.CellType.triangle, degree)``).
-            backend: Unused.
+            backend: The face kernels (None: the NumPy reference).
 
         Returns:
             ``(xi, weights)``: contactor reference coordinates ``(S, Q, 2)``, found along
@@ -345,8 +349,9 @@ class PolygonSegmentation:
             return np.zeros((0, Q, 2)), np.zeros((0, Q))
         x = pieces.origin[:, None] + np.einsum("sqd,sdg->sqg", plane, pieces.frame[:, :2])
         rows = np.repeat(pieces.contactor, Q)
+        kernels = face_backend if backend is None else backend
         xi, _, ratio = _pull_back(
-            contactor, rows, x.reshape(-1, 3), np.repeat(pieces.frame, Q, axis=0)
+            contactor, rows, x.reshape(-1, 3), np.repeat(pieces.frame, Q, axis=0), kernels
         )
         return xi.reshape(S, Q, 2), det[:, None] * W[None, :] * ratio.reshape(S, Q)
 

@@ -10,13 +10,14 @@ and the coupling kernel of Eqs. (40)-(42) (:func:`segment_to_segment`). Arrays a
 C-contiguous ``float64`` (``int32`` for indices). :class:`KernelBackend` is that
 interface; the modules below satisfy it. Each backend declares the topological
 dimension of the facets it handles (``FACET_DIM``: 1, the edges of 2D cells, whose
-parameter is :math:`\xi \in [0, 1]`); a backend for polygonal facets (dimension 2)
-would be a further module beside them, chosen by :func:`get_backend`'s ``facet_dim``.
-Backends:
+parameter is :math:`\xi \in [0, 1]`; 2, the faces of 3D cells, whose parameter is a pair
+of reference coordinates), chosen by :func:`get_backend`'s ``facet_dim``. Backends:
 
-- ``"numpy"``: the reference (:mod:`~dolfinx_contact_s2s.kernels.numpy_backend`);
-- ``"c"``: compiled C through CFFI (:mod:`~dolfinx_contact_s2s.kernels.c_backend`),
-  built once on rank 0 and cached;
+- ``"numpy"``: the reference (:mod:`~dolfinx_contact_s2s.kernels.numpy_backend`; on
+  faces :mod:`~dolfinx_contact_s2s.kernels.face_backend`);
+- ``"c"``: compiled C through CFFI (:mod:`~dolfinx_contact_s2s.kernels.c_backend`; on
+  faces :mod:`~dolfinx_contact_s2s.kernels.face_c_backend`), built once on rank 0 and
+  cached;
 - ``"auto"``: ``$S2S_KERNEL_BACKEND`` if set, else ``"c"`` when CFFI and a C compiler
   work, else ``"numpy"`` with a one-line notice naming the optional extra that brings
   CFFI, ``pip install dolfinx-contact-s2s[c]``.
@@ -49,7 +50,8 @@ BACKENDS = ("numpy", "c")
 ENV_BACKEND = "S2S_KERNEL_BACKEND"
 
 #: Topological dimensions of the facets that have kernels (1: edges of 2D cells, 2: faces
-#: of 3D cells, NumPy only: :mod:`~dolfinx_contact_s2s.kernels.face_backend`).
+#: of 3D cells: :mod:`~dolfinx_contact_s2s.kernels.face_backend` and its compiled twin
+#: :mod:`~dolfinx_contact_s2s.kernels.face_c_backend`).
 FACET_DIMS = (numpy_backend.FACET_DIM, face_backend.FACET_DIM)
 
 _logger = logging.getLogger(__name__)
@@ -193,12 +195,6 @@ def get_backend(
             f"no contact kernels for facets of dimension {facet_dim}; implemented: "
             f"{FACET_DIMS} (the edges of 2D cells, the faces of 3D cells)"
         )
-    if facet_dim == face_backend.FACET_DIM:
-        if name == "c":
-            raise ValueError("no compiled kernels for faces yet: use backend='numpy' or 'auto'")
-        if name not in (*BACKENDS, "auto"):
-            raise ValueError(f"unknown kernel backend {name!r}; choose from {BACKENDS} or 'auto'")
-        return typing.cast(KernelBackend, face_backend)
     chosen = name
     if name == "auto":
         chosen = os.environ.get(ENV_BACKEND, "").strip().lower() or "auto"
@@ -206,16 +202,26 @@ def get_backend(
             raise ValueError(
                 f"unknown kernel backend {chosen!r} in ${ENV_BACKEND}; choose from {BACKENDS}"
             )
+    faces = facet_dim == face_backend.FACET_DIM
+    reference = face_backend if faces else numpy_backend
     if chosen == "numpy":
-        return numpy_backend
+        return typing.cast(KernelBackend, reference)
     if chosen not in ("c", "auto"):
         raise ValueError(f"unknown kernel backend {name!r}; choose from {BACKENDS} or 'auto'")
     from dolfinx_contact_s2s.kernels import c_backend
 
+    def compiled() -> KernelBackend:
+        loaded = c_backend.load(comm)
+        if faces:
+            from dolfinx_contact_s2s.kernels import face_c_backend
+
+            return typing.cast(KernelBackend, face_c_backend)
+        return typing.cast(KernelBackend, loaded)
+
     if chosen == "c":
-        return typing.cast(KernelBackend, c_backend.load(comm))
+        return compiled()
     try:
-        return typing.cast(KernelBackend, c_backend.load(comm))
+        return compiled()
     except (ImportError, RuntimeError) as error:
         global _noticed
         if comm.rank == 0 and not _noticed:
@@ -226,4 +232,4 @@ def get_backend(
                 error,
             )
             _noticed = True
-        return numpy_backend
+        return typing.cast(KernelBackend, reference)

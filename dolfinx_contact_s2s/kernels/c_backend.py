@@ -5,10 +5,11 @@ r"""Compiled (C, through CFFI) backend of the contact kernels.
 The functions have the signatures of :mod:`dolfinx_contact_s2s.kernels.numpy_backend`
 and return new arrays. Straight facets (degree-1 coefficients, or higher coefficients
 exactly zero) are projected and intersected in closed form; Newton's method, with the
-relative stopping test of the NumPy backend, runs only on curved facets. The C source
-(``_kernels.c``) is compiled once, on rank 0 of a communicator, into a cache directory
-keyed by a hash of the source and of the CFFI and Python versions
-(:func:`load`); the other ranks load it after a collective status check, as
+relative stopping test of the NumPy backend, runs only on curved facets. The C sources
+(``_kernels.c``; ``_faces.c``, the face kernels of
+:mod:`~dolfinx_contact_s2s.kernels.face_c_backend`) are compiled once, on rank 0 of a
+communicator, into a cache directory keyed by a hash of the sources and of the CFFI and
+Python versions (:func:`load`); the other ranks load it after a collective status check, as
 :func:`dolfinx.jit.mpi_jit_decorator` does for forms.
 """
 
@@ -20,6 +21,7 @@ import os
 import sys
 import tempfile
 import types
+import typing
 from pathlib import Path
 
 from mpi4py import MPI
@@ -39,6 +41,7 @@ __all__ = [
     "cell_normals",
     "clip_polygons",
     "clip_segments",
+    "compiled",
     "coo_to_csr",
     "evaluate",
     "facet_basis",
@@ -86,6 +89,11 @@ int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_coun
                       double round_off, int width, double *out, int32_t *counts);
 int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *counts, int P,
                                  double round_off, double *triangles, int32_t *owner);
+void s2s_face_evaluate(const double *nodes, int K, const int32_t *rows, const double *xi, int P,
+                       double *x, double *dx);
+void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const double *origins,
+                        const double *directions, int P, int iterations, double tol,
+                        double round_off, double *xi, double *t, int8_t *ok);
 """
 
 #: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C
@@ -96,7 +104,8 @@ MAX_POLYGON_VERTICES = 32
 #: like the NumPy backend's.
 _COMPILE_ARGS = ["-O2", "-g0", "-ffp-contract=off"]
 
-_SOURCE = Path(__file__).with_name("_kernels.c")
+#: The C sources, compiled into one module.
+_SOURCES = tuple(Path(__file__).with_name(f) for f in ("_kernels.c", "_faces.c"))
 
 #: The loaded compiled module (``ffi``, ``lib``), once :func:`load` succeeded.
 _module: types.ModuleType | None = None
@@ -121,10 +130,14 @@ def _module_name() -> str:
     import cffi
 
     key = hashlib.sha256()
-    for part in (_SOURCE.read_bytes(), _CDEF.encode(), " ".join(_COMPILE_ARGS).encode()):
+    for part in (_source().encode(), _CDEF.encode(), " ".join(_COMPILE_ARGS).encode()):
         key.update(part)
     key.update(f"{cffi.__version__} {sys.version} {sys.platform}".encode())
     return f"_s2s_kernels_{key.hexdigest()[:16]}"
+
+
+def _source() -> str:
+    return "\n".join(path.read_text() for path in _SOURCES)
 
 
 def _library_path(name: str) -> Path:
@@ -143,7 +156,7 @@ def _compile(name: str) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     ffi = cffi.FFI()
     ffi.cdef(_CDEF)
-    ffi.set_source(name, _SOURCE.read_text(), extra_compile_args=_COMPILE_ARGS)
+    ffi.set_source(name, _source(), extra_compile_args=_COMPILE_ARGS)
     with tempfile.TemporaryDirectory(dir=target.parent, prefix=".build-") as tmp:
         built = ffi.compile(tmpdir=tmp, verbose=False)
         # Atomic on one file system: a reader sees no library or a complete one.
@@ -198,6 +211,15 @@ def load(comm: MPI.Comm = MPI.COMM_WORLD) -> types.ModuleType:
     if _module is None:
         _module = _import(name)
     return sys.modules[__name__]
+
+
+def compiled() -> tuple[typing.Any, typing.Any]:
+    """The loaded module's ``(ffi, lib)``, for the wrappers of other kernel modules.
+
+    Raises:
+        RuntimeError: If :func:`load` has not succeeded on this process.
+    """
+    return _lib()
 
 
 def _lib():

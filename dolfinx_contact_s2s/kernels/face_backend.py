@@ -9,8 +9,10 @@ is its geometry nodes ``(F, K, 3)`` in the order of Basix's Lagrange element on 
 (:data:`~dolfinx_contact_s2s.kernels.polygon.FACE_ELEMENTS`), and a facet parameter is a
 pair of reference coordinates :math:`\xi = (\xi_1, \xi_2)` of that element, so every
 ``xi`` below has a trailing axis of length 2. The pieces of the composite rule
-(Fig. 15(b)) are cut by :mod:`~dolfinx_contact_s2s.kernels.polygon`; the coupling kernel
-of Eqs. (40)-(42) does not depend on the facet dimension and is shared.
+(Fig. 15(b)) are cut by :mod:`~dolfinx_contact_s2s.kernels.polygon` and the clipping of
+:mod:`~dolfinx_contact_s2s.kernels.clipping`; the coupling kernel of Eqs. (40)-(42) does
+not depend on the facet dimension and is shared. This is the reference of the compiled
+:mod:`~dolfinx_contact_s2s.kernels.face_c_backend`.
 """
 
 from __future__ import annotations
@@ -21,22 +23,34 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.kernels import polygon
+from dolfinx_contact_s2s.kernels.clipping import clip_polygons, triangulate_polygons
 from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, coo_to_csr, segment_to_segment
 
 __all__ = [
     "FACET_DIM",
+    "NAME",
     "bounding_boxes",
+    "clip_polygons",
     "coo_to_csr",
     "evaluate",
     "facet_coefficients",
     "intersect",
+    "intersect_lines",
     "outward_normals",
     "segment_to_segment",
     "shift",
+    "triangulate_polygons",
 ]
 
 #: Topological dimension of the facets these kernels handle (faces of 3D cells).
 FACET_DIM = 2
+
+#: The backend's name (:data:`~dolfinx_contact_s2s.kernels.BACKENDS`).
+NAME = "numpy"
+
+#: Reference coordinates and line parameters where lines cross faces, raising a
+#: RuntimeError naming the faces missed (:func:`~.polygon.intersect`).
+intersect_lines = polygon.intersect
 
 _Array = npt.NDArray[np.float64]
 _Rows = npt.NDArray[np.int32]

@@ -60,6 +60,7 @@ from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
 __all__ = [
     "FACE_ELEMENTS",
     "OverlapRule",
+    "check_lines",
     "clip_convex",
     "clip_polygons",
     "corner_nodes",
@@ -210,6 +211,12 @@ def intersect(
                 break
         ok &= small
     ok &= np.all(np.isfinite(xi), axis=1) & np.isfinite(t)
+    check_lines(rows, ok, name, iterations)
+    return xi, t
+
+
+def check_lines(rows: _Rows, ok: npt.NDArray[np.bool_], name: str, iterations: int) -> None:
+    """Raise the RuntimeError of :func:`intersect` naming the faces of the lines not ``ok``."""
     if not np.all(ok):
         bad = np.unique(rows[~ok])
         raise RuntimeError(
@@ -218,7 +225,6 @@ def intersect(
             f"line runs along the face, or Newton's method did not converge in "
             f"{iterations} iterations"
         )
-    return xi, t
 
 
 def _check_areas(nodes: _Array, rows: _Rows, round_off: float, name: str) -> None:

@@ -1,0 +1,157 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Compiled (C, through CFFI) kernels of the contact assembly on faces of 3D cells.
+
+The functions of :mod:`~dolfinx_contact_s2s.kernels.face_backend` (the NumPy reference)
+with the same names, signatures and meanings. Compiled: the face geometry
+(:func:`evaluate`, :func:`outward_normals`), the Newton pull-back of points along lines
+onto faces (:func:`intersect`, :func:`intersect_lines`, Eq. 38; ``_faces.c``), and from
+:mod:`~dolfinx_contact_s2s.kernels.c_backend` the clipping and triangulation of the
+overlap polygons (Fig. 15(b)) and the local blocks of Eqs. (40)-(42). The set-up work
+done once per surface (:func:`facet_coefficients`, :func:`bounding_boxes`,
+:func:`shift`) stays NumPy. Results agree with the reference to round-off (Basix
+tabulates and LAPACK solves in another order; ``tests/test_face_kernels.py``); the
+clipping and the local blocks agree to the last bit.
+
+Load it through :func:`~dolfinx_contact_s2s.kernels.get_backend` (``"c"`` or
+``"auto"`` with ``facet_dim=2``), which compiles the C sources on rank 0 first.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from dolfinx_contact_s2s.kernels import c_backend, polygon
+from dolfinx_contact_s2s.kernels.c_backend import (
+    clip_polygons,
+    coo_to_csr,
+    segment_to_segment,
+    triangulate_polygons,
+)
+from dolfinx_contact_s2s.kernels.face_backend import (
+    FACET_DIM,
+    bounding_boxes,
+    facet_coefficients,
+    shift,
+)
+from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
+
+__all__ = [
+    "FACET_DIM",
+    "NAME",
+    "bounding_boxes",
+    "clip_polygons",
+    "coo_to_csr",
+    "evaluate",
+    "facet_coefficients",
+    "intersect",
+    "intersect_lines",
+    "outward_normals",
+    "segment_to_segment",
+    "shift",
+    "triangulate_polygons",
+]
+
+#: The backend's name (:data:`~dolfinx_contact_s2s.kernels.BACKENDS`).
+NAME = "c"
+
+_Array = npt.NDArray[np.float64]
+_Rows = npt.NDArray[np.int32]
+
+
+def _ptr(ffi, a: np.ndarray, ctype: str = "double *"):
+    return ffi.cast(ctype, ffi.from_buffer(a)) if a.size else ffi.NULL
+
+
+def _nodes(nodes: _Array) -> tuple[_Array, int]:
+    """C-contiguous face nodes ``(F, K, 3)`` of a supported face element, and ``K``."""
+    c = np.ascontiguousarray(nodes, dtype=np.float64)
+    if c.ndim != 3 or c.shape[2] != 3:
+        raise ValueError(f"face nodes must be (F, K, 3), not {c.shape}")
+    polygon.face_element(c.shape[1])  # A ValueError naming the supported elements.
+    return c, c.shape[1]
+
+
+def evaluate(
+    coefficients: _Array, rows: _Rows, xi: _Array, derivatives: int = 1
+) -> tuple[_Array, ...]:
+    r"""Points :math:`x(\xi)` ``(P, 3)`` and tangents :math:`\partial x/\partial \xi` ``(P, 3, 2)``.
+
+    Raises:
+        NotImplementedError: For second derivatives (no kernel of the faces uses them).
+    """
+    if derivatives != 1:
+        raise NotImplementedError("face kernels evaluate first derivatives only")
+    ffi, lib = c_backend.compiled()
+    c, K = _nodes(coefficients)
+    rows = np.ascontiguousarray(rows, dtype=np.int32)
+    xi = np.ascontiguousarray(np.reshape(xi, (-1, 2)), dtype=np.float64)
+    P = rows.size
+    x, dx = np.empty((P, 3)), np.empty((P, 3, 2))
+    lib.s2s_face_evaluate(
+        _ptr(ffi, c), K, _ptr(ffi, rows, "int32_t *"), _ptr(ffi, xi), P,
+        _ptr(ffi, x), _ptr(ffi, dx),
+    )  # fmt: skip
+    return x, dx
+
+
+def outward_normals(coefficients: _Array, orientation: _Array, rows: _Rows, xi: _Array) -> _Array:
+    r"""Unit outward normals: the orientation times :math:`\partial_1 x \times \partial_2 x`."""
+    _, dx = evaluate(coefficients, rows, xi)
+    n = np.cross(dx[:, :, 0], dx[:, :, 1])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    return orientation[rows, None] * n
+
+
+def intersect_lines(
+    nodes: _Array,
+    rows: _Rows,
+    origins: _Array,
+    directions: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+    name: str = "face",
+) -> tuple[_Array, _Array]:
+    r"""Where the lines :math:`o + t d` cross the faces: :func:`~.polygon.intersect` in C.
+
+    The same start (the flat face through nodes 0, 1, 2), Newton iteration and stopping
+    test, per line (a line stops when its own step is small).
+
+    Returns:
+        ``(xi, t)``: reference coordinates ``(P, 2)`` and line parameters ``(P,)``.
+
+    Raises:
+        RuntimeError: Naming the faces (by row) whose line runs along them, or where
+            Newton's method does not converge (as the reference does).
+    """
+    ffi, lib = c_backend.compiled()
+    c, K = _nodes(nodes)
+    rows = np.ascontiguousarray(rows, dtype=np.int32)
+    o = np.ascontiguousarray(origins, dtype=np.float64)
+    d = np.ascontiguousarray(directions, dtype=np.float64)
+    P = rows.size
+    xi, t, ok = np.empty((P, 2)), np.empty(P), np.empty(P, dtype=np.int8)
+    lib.s2s_face_intersect(
+        _ptr(ffi, c), K, _ptr(ffi, rows, "int32_t *"), _ptr(ffi, o), _ptr(ffi, d), P,
+        int(iterations), float(tol), float(ROUND_OFF), _ptr(ffi, xi), _ptr(ffi, t),
+        _ptr(ffi, ok, "int8_t *"),
+    )  # fmt: skip
+    polygon.check_lines(rows, ok.astype(bool), name, iterations)
+    return xi, t
+
+
+def intersect(
+    coefficients: _Array,
+    rows: _Rows,
+    origins: _Array,
+    directions: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> _Array:
+    r"""Reference coordinates where the lines ``origins + t directions`` cross the faces (Eq. 38).
+
+    :func:`intersect_lines` without the line parameters, ``(P, 2)``.
+    """
+    eta, _ = intersect_lines(coefficients, rows, origins, directions, iterations, tol)
+    return eta
