@@ -263,16 +263,23 @@ class PolygonSegmentation:
     facet_dim = 2
 
     def sweep(self, contactor: SurfaceData, boxes: _Array, radius: float) -> _Array:
-        r"""The faces' boxes grown by ``radius`` on every side.
+        r"""The faces' boxes grown by the region the faces sweep along their normals.
 
-        A point :math:`x` of a face moved to :math:`x \pm t n`, :math:`0 \le t \le r`,
-        stays within :math:`r` of :math:`x` in every coordinate, for curved and warped
-        faces alike: the simplest safe box (a flat face's prism needs only
-        :math:`r |n_g|` along axis :math:`g`).
+        A point :math:`x` of a flat face with unit normal :math:`n` moved to
+        :math:`x \pm t n`, :math:`0 \le t \le r`, moves by :math:`r |n_g|` along axis
+        :math:`g`: the box grows by that (and a relative :math:`10^{-8}` of :math:`r` for
+        the round-off of :math:`n`; :func:`~.polygon.flat_normals` decides flatness). A
+        curved or warped face's box grows by :math:`r` on every side, safe whatever its
+        normals. On a flat contact plane the flat boxes keep the candidates to the faces
+        that overlap in the plane, several times fewer than the grown ones.
         """
         out = boxes.copy()
-        out[:, 0] -= radius
-        out[:, 1] += radius
+        grow = np.full((boxes.shape[0], 3), radius)
+        if boxes.shape[0]:
+            n, flat = polygon.flat_normals(contactor.coefficients)
+            grow[flat] *= np.minimum(np.abs(n[flat]) + 1e-8, 1.0)
+        out[:, 0] -= grow
+        out[:, 1] += grow
         return out
 
     def cut(

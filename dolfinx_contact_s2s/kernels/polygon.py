@@ -66,6 +66,7 @@ __all__ = [
     "corner_nodes",
     "evaluate",
     "face_element",
+    "flat_normals",
     "intersect",
     "overlap_rule",
     "project_faces",
@@ -118,6 +119,25 @@ def corner_nodes(nodes: _Array) -> _Array:
 def _unit(v: _Array) -> _Array:
     """Vectors along the last axis divided by their length."""
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def flat_normals(nodes: _Array, tol: float = 1e-10) -> tuple[_Array, npt.NDArray[np.bool_]]:
+    r"""Unit normals of faces' corner polygons (their vector areas) and whether faces are flat.
+
+    A face is flat when every node lies within ``tol`` times its size (largest corner
+    distance from the corners' centroid) of the plane through that centroid normal to
+    the polygon's vector area; its normal is then constant up to a relative ``tol``.
+
+    Returns:
+        ``(normals, flat)``: ``(F, 3)`` (the sign of the corner order) and ``(F,)``.
+    """
+    corners = corner_nodes(nodes)
+    centre = corners.mean(axis=1, keepdims=True)
+    rel = corners - centre
+    n = _unit(np.cross(rel, np.roll(rel, -1, axis=1)).sum(axis=1))
+    size = np.max(np.linalg.norm(rel, axis=2), axis=1)
+    off = np.max(np.abs(np.einsum("fkg,fg->fk", nodes - centre, n)), axis=1)
+    return n, off <= tol * size
 
 
 def evaluate(nodes: _Array, rows: _Rows, xi: _Array) -> tuple[_Array, _Array]:
