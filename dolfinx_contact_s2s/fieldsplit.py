@@ -287,37 +287,68 @@ def _line_length(pair: typing.Any) -> float:
 
 
 def _pair_block(
-    problem: LinearContactProblem | ContactSystem, j: int, schur: str
+    problem: LinearContactProblem | ContactSystem, j: int
 ) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.bool_]]:
-    r"""Dense block of pair ``j`` (global dofs): :math:`\hat S^{-1}` or :math:`\hat S`."""
+    r"""Dense block :math:`\hat S^{-1}` (``"fractional"``) of pair ``j``, in global dofs."""
     pair = problem.pairs[j]
     inactive = _inactive(problem, j)
     active = ~inactive
     c = 1.0 / _stiffness_scale(problem, j)
     P = multiplier_mass(pair)
     Pd = gather_dense(P)
+    P.destroy()
     n = Pd.shape[0]
     block = np.zeros((n, n))
-    if schur == "mass":
-        cells = pair.Q.mesh.topology.index_map(pair.Q.mesh.topology.dim).size_global
-        hbar = _line_length(pair) / cells
-        block[np.ix_(active, active)] = -(hbar / c) * Pd[np.ix_(active, active)]
-    else:
-        A = _laplacian(pair)
-        Ad = gather_dense(A)
-        A.destroy()
-        if pair.nodal and pair.weight == "unit":
-            # The multiplier is the nodal force: in its coefficients the traction
-            # basis is scaled by 1/w, and P = diag(1/w).
-            Ad = Pd @ Ad @ Pd
-        Aa, Pa = Ad[np.ix_(active, active)], Pd[np.ix_(active, active)]
-        mu, Phi = scipy.linalg.eigh(0.5 * (Aa + Aa.T), 0.5 * (Pa + Pa.T))
-        kappa = np.pi / _line_length(pair)
-        root = np.sqrt(np.maximum(mu, 0.0) + kappa**2)
-        block[np.ix_(active, active)] = -c * (Phi * root) @ Phi.T
-    P.destroy()
+    A = _laplacian(pair)
+    Ad = gather_dense(A)
+    A.destroy()
+    if pair.nodal and pair.weight == "unit":
+        # The multiplier is the nodal force: in its coefficients the traction
+        # basis is scaled by 1/w, and P = diag(1/w).
+        Ad = Pd @ Ad @ Pd
+    Aa, Pa = Ad[np.ix_(active, active)], Pd[np.ix_(active, active)]
+    mu, Phi = scipy.linalg.eigh(0.5 * (Aa + Aa.T), 0.5 * (Pa + Pa.T))
+    kappa = np.pi / _line_length(pair)
+    root = np.sqrt(np.maximum(mu, 0.0) + kappa**2)
+    block[np.ix_(active, active)] = -c * (Phi * root) @ Phi.T
     block[inactive, inactive] = 1.0
     return block, inactive
+
+
+def _insert_mass(
+    problem: LinearContactProblem | ContactSystem,
+    j: int,
+    S: PETSc.Mat,
+    split: npt.NDArray[np.int64],
+) -> None:
+    r"""Insert this process's rows of :math:`\hat S = -(\bar h / c) \mathbf P` of pair ``j``.
+
+    Sparse (``"mass"``): the multiplier mass is never gathered, so that a 3D contact
+    surface of many thousand multipliers costs its nonzeros only. Inactive multipliers
+    get the unit row :math:`\hat S_{kk} = 1`.
+    """
+    pair = problem.pairs[j]
+    inactive = _inactive(problem, j)
+    c = 1.0 / _stiffness_scale(problem, j)
+    cells = pair.Q.mesh.topology.index_map(pair.Q.mesh.topology.dim).size_global
+    hbar = _line_length(pair) / cells
+    P = multiplier_mass(pair)
+    indptr, cols, values = P.getValuesCSR()
+    first, _ = P.getOwnershipRange()
+    P.destroy()
+    for i in range(indptr.size - 1):
+        row = first + i
+        if inactive[row]:
+            S.setValue(split[row], split[row], 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
+            continue
+        k = cols[indptr[i] : indptr[i + 1]]
+        keep = ~inactive[k]
+        S.setValues(
+            [split[row]],
+            split[k[keep]].astype(PETSc.IntType),
+            -(hbar / c) * values[indptr[i] : indptr[i + 1]][keep],
+            addv=PETSc.InsertMode.INSERT_VALUES,
+        )
 
 
 def schur_approximation(
@@ -357,7 +388,10 @@ def schur_approximation(
         S.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
     S.setUp()
     for j in range(len(problem.pairs)):
-        block, _ = _pair_block(problem, j, schur)
+        if schur == "mass":
+            _insert_mass(problem, j, S, numbering[j])
+            continue
+        block, _ = _pair_block(problem, j)
         split = numbering[j]
         mine = np.flatnonzero((split >= start) & (split < start + local))
         if mine.size == 0:
