@@ -429,8 +429,9 @@ class ContactSystem:
         nb, npairs = len(self.spaces), len(self.pairs)
         # K lives in the previous A only (kind="aij"): take it out before A goes, and free
         # the previous factorization first, so that K is never stored twice beside a factor.
+        # A field split of the nest holds the previous blocks: freed before they go too.
         extracted = [] if self._K else [self.stiffness_matrix(i) for i in range(nb)]
-        if extracted:
+        if extracted or self.A is not None:
             self.solver.reset()
         self._destroy_system()
         blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
