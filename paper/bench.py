@@ -99,6 +99,10 @@ GOALS: dict[str, dict[str, typing.Any] | None] = {
     "p6_scaling": None,
     "p7_ranks": {"op": ">=", "value": 1.6},
     "p8_factorization": {"op": ">=", "value": 2.0},
+    # Issue 21, three-dimensional contact (bench/bench_3d.py).
+    "p9_coupling_3d": {"op": ">=", "value": 0.5},
+    "p10_share_3d": {"op": "<=", "value": 0.10},
+    "p11_fieldsplit_3d": {"op": "<=", "value": 1.0},
 }
 
 

@@ -31,6 +31,7 @@ SCRIPTS = {
     "bench_scaling.py": ["p6_scaling"],
     "bench_ranks.py": ["p7_ranks"],
     "bench_factorization.py": ["p8_factorization"],
+    "bench_3d.py": ["p9_coupling_3d", "p10_share_3d", "p11_fieldsplit_3d"],
 }
 
 #: What the issue asks of every record (issue 11, item 6).
@@ -88,7 +89,7 @@ def test_bench_script_writes_complete_records(smoke_run, script):
             assert isinstance(record[key], kind), f"{name}: {key} is {record[key]!r}"
         assert record["smoke"] is True
         assert math.isfinite(record["ratio"]) and record["ratio"] > 0, record["ratio"]
-        assert record["figure"] == name[:2].upper()
+        assert record["figure"] == name.split("_")[0].upper()
         machine = record["machine"]
         assert machine["cpu"] and machine["cores"] >= 1 and machine["memory_mb"] > 0
         versions = record["versions"]
