@@ -29,7 +29,7 @@ from paper.blocks3d import BOTTOM, TOP, E, P, errors, scene
 __all__ = ["UNILATERAL_TOLERANCE", "held_scene", "level_for", "solve_level", "unknowns_of"]
 
 #: Relative complementarity residual of a converged unilateral solve, here.
-UNILATERAL_TOLERANCE = 1e-6
+UNILATERAL_TOLERANCE = 1e-4
 
 
 def _cells(level: int) -> tuple[tuple[int, int], int]:
@@ -114,8 +114,9 @@ def solve_level(
     kind = UnilateralContactProblem if unilateral else LinearContactProblem
     extra = {
         "monitor": lambda _: iterations.append(problem.solver.getIterationNumber()),
-        # The iterative solve (rtol 1e-11) leaves a complementarity residual of about
-        # 1e-8 (measured), above the default 1e-10 of a direct solve.
+        # The iterative solve (rtol 1e-11) leaves pressure errors that grow with the size
+        # (2e-7 at 1,420 unknowns, 1.4e-5 at 100,116, measured): the default 1e-10 of a
+        # direct solve, or 1e-6, is never reached and the active set repeats its solves.
         "tolerance": UNILATERAL_TOLERANCE,
     }
 
