@@ -46,6 +46,7 @@ from dolfinx_contact_s2s.axisymmetry import (
 )
 from dolfinx_contact_s2s.contact_rule import contact_rule
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
+from dolfinx_contact_s2s.face_basis import face_basis
 from dolfinx_contact_s2s.quadrature import RULES
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
@@ -407,7 +408,8 @@ class ContactPair:
         mu = self.multiplier.basis(rows_c, xi, kernels)
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
-        phi_c, phi_t = cs.facet_basis(C, rows_c, xi), ts.facet_basis(T, rows_t, eta)
+        phi_c, dofs_c = face_basis(cs, C, g.contactor, nq, xi)
+        phi_t, dofs_t = face_basis(ts, T, g.target, nq, eta)
         b_c, b_t, gap = kernels.segment_to_segment(
             mu,
             phi_c.reshape(S, nq, phi_c.shape[1]),
@@ -420,9 +422,7 @@ class ContactPair:
         # P2 vertex function on the axis has a zero r-weighted integral), and on faces its
         # square (a P2 vertex function of a triangle integrates to zero).
         coverage = np.einsum("sqk,sq->sk", mu**2 if cs.facet_dim == 2 else mu, g.weights)
-        return CouplingBlocks(
-            ts, g.rows, C.dofs[g.contactor], b_c, T.dofs[g.target], b_t, gap, coverage
-        )
+        return CouplingBlocks(ts, g.rows, dofs_c, b_c, dofs_t, b_t, gap, coverage)
 
     def point_weights(
         self, g: PointGroups, x: npt.NDArray[np.floating]
