@@ -114,6 +114,15 @@ def _facet_integrals(pair: PairLike) -> npt.NDArray[np.floating]:
     """
     cs, C, space = pair.contactor, pair.contactor.data, pair.multiplier
     n = len(C)
+    if cs.facet_dim == 2:
+        # Faces: a rule of the multiplier's cell, exact for mu_k on parallelograms.
+        X, w_face = basix.make_quadrature(space.element.cell_type, 2 * pair.multiplier_degree + 2)
+        rows = np.repeat(np.arange(n, dtype=np.int32), w_face.size)
+        xi = np.tile(X, (n, 1))
+        _, _, dx = cs.evaluate(C, rows, xi)
+        area = np.tile(w_face, n) * np.linalg.norm(np.cross(dx[:, :, 0], dx[:, :, 1]), axis=1)
+        w = area[:, None] * space.basis(rows, xi, cs.backend)
+        return w.reshape(n, w_face.size, -1).sum(axis=1)
     s_ref, w_ref = interval_rule("gauss", pair.multiplier_degree + 3)
     rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
     xi = np.tile(s_ref, n)
@@ -168,17 +177,20 @@ class Discretization:
 
         Raises:
             NotImplementedError: On faces (3D), for all but segment-to-segment with the
-                composite Gauss rule and a continuous Lagrange multiplier.
+                composite Gauss rule and a continuous Lagrange multiplier, and
+                node-to-segment.
         """
         if self.own_multiplier and multiplier is not None:
             raise ValueError(f"{self.method} defines its own multiplier space")
         continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
-        if contactor.facet_dim == 2 and (
-            self.method != "segment-to-segment" or quadrature != "composite-gauss" or not continuous
+        s2s = self.method == "segment-to-segment" and quadrature == "composite-gauss"
+        if contactor.facet_dim == 2 and not (
+            (s2s and continuous) or self.method == "node-to-segment"
         ):
             raise NotImplementedError(
                 "on the faces of 3D meshes: method='segment-to-segment' with the "
-                "composite-gauss rule and a continuous Lagrange multiplier only (got "
+                "composite-gauss rule and a continuous Lagrange multiplier, or "
+                "method='node-to-segment', only (got "
                 f"method={self.method!r}, quadrature={quadrature!r}, multiplier={multiplier!r})"
             )
 
@@ -293,7 +305,10 @@ class NodeToSegment(Discretization):
     (:math:`\int_0^h 2\pi r N_0\, dr = 0`), a zero constraint that the rank check
     (Eq. 35) refuses: use segment-to-segment there. Each node meets the nearest
     target along its normal. With ``drop_coincident`` (the second pass of section 4.3)
-    nodes meeting a target node are left out: :meth:`duplicates`.
+    nodes meeting a target node are left out: :meth:`duplicates`. On faces (3D) the
+    nodes are those of the contactor's displacement degree, the tributary weight is the
+    node's area :math:`\int N_i\, dA` (zero at the vertices of P2 triangles: refused),
+    and the two-pass method is not implemented.
     """
 
     nodal = True
@@ -308,15 +323,33 @@ class NodeToSegment(Discretization):
         if family not in ("Lagrange", "P", "CG") or degree != contactor.element.degree:
             raise ValueError(f"{self.method} puts one multiplier on every contactor node")
 
+    def space(self, pair: PairLike) -> MultiplierSpace:
+        """The nodal multiplier space; ValueError (every rank) for zero tributary areas."""
+        cs = pair.contactor
+        if pair.weight == "tributary" and cs.facet_dim == 2 and cs.element.degree == 2:
+            if cs.cell_type == basix.CellType.tetrahedron:
+                raise ValueError(
+                    "node-to-segment with weight='tributary' on P2 triangles: a vertex "
+                    "node's tributary area (the integral of its basis function) is zero, "
+                    "a constraint of weight 0; use weight='unit' or segment-to-segment"
+                )
+        return super().space(pair)
+
     def point_rule(self, pair: PairLike) -> tuple[npt.NDArray, ...]:
         """Every multiplier node on every contactor facet, with its weight (Eq. 39)."""
         space, n = pair.multiplier, len(pair.contactor.data)
-        # Every multiplier dof sits on a contactor node; s is the submesh parameter.
-        s_nodes = space.element.basix_element.points[:, 0]
-        k = s_nodes.size
+        # Every multiplier dof sits on a contactor node, at these points of Q's cell.
+        points = space.element.basix_element.points
+        k = points.shape[0]
         rows = np.repeat(np.arange(n, dtype=np.int32), k)
-        s = np.tile(s_nodes, n)
-        xi = np.where(space.flip[rows], 1.0 - s, s)
+        if space.corners is None:
+            s = np.tile(points[:, 0], n)
+            xi = np.where(space.flip[rows], 1.0 - s, s)
+        else:
+            # Faces: invert X = X0 + xi_1 (X1 - X0) + xi_2 (X2 - X0) (MultiplierSpace.basis).
+            X0, X1, X2 = (space.corners[rows, i] for i in range(3))
+            A = np.stack([X1 - X0, X2 - X0], axis=2)
+            xi = np.linalg.solve(A, (np.tile(points, (n, 1)) - X0)[:, :, None])[:, :, 0]
         dofs = space.Q.dofmap.list[space.cells].reshape(-1)
         if pair.weight == "unit":
             weights = 1.0 / _multiplicity(space)[dofs]
@@ -349,6 +382,11 @@ class NodeToSegment(Discretization):
         """With ``drop_coincident``: the multipliers of nodes that meet a target node."""
         if not pair.drop_coincident:
             return np.empty(0, dtype=np.int64)
+        if pair.contactor.facet_dim == 2:
+            raise NotImplementedError(
+                "on the faces of 3D meshes: single-pass node-to-segment only, not the "
+                "two-pass method (drop_coincident)"
+            )
         coincident, dofs = self.coincident(pair, gathered)
         imap = pair.Q.dofmap.index_map
         local = np.unique(dofs[coincident])

@@ -136,6 +136,28 @@ def swept_boxes(
     return boxes
 
 
+def _inside(
+    eta: npt.NDArray[np.floating], num_nodes: int, tol: float
+) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.floating]]:
+    r"""Whether facet parameters lie on the facet (within ``tol``), and them moved onto it.
+
+    Edges: :math:`\eta \in [0, 1]`; faces (``eta`` of shape ``(P, 2)``): the square
+    :math:`[0, 1]^2`, or the triangle :math:`\eta_1, \eta_2 \ge 0`,
+    :math:`\eta_1 + \eta_2 \le 1` of faces with 3 or 6 nodes.
+    """
+    if eta.ndim == 1:
+        return (eta >= -tol) & (eta <= 1 + tol), np.clip(eta, 0.0, 1.0)
+    inside = np.all(eta >= -tol, axis=1)
+    clipped = np.clip(eta, 0.0, 1.0)
+    if num_nodes in (3, 6):
+        total = eta.sum(axis=1)
+        inside &= total <= 1 + tol
+        clipped /= np.maximum(clipped.sum(axis=1), 1.0)[:, None]
+    else:
+        inside &= np.all(eta <= 1 + tol, axis=1)
+    return inside, clipped
+
+
 def _hits_on(
     T: SurfaceData,
     boxes: npt.NDArray[np.floating],
@@ -148,9 +170,7 @@ def _hits_on(
     ip, it = candidates(np.stack([x, x], axis=1), boxes, radius)
     c = T.coefficients
     eta = backend.intersect(c, it, x[ip], normals[ip])
-    tol = 1e-10
-    inside = (eta >= -tol) & (eta <= 1 + tol)
-    eta = np.clip(eta, 0.0, 1.0)
+    inside, eta = _inside(eta, c.shape[1], 1e-10)
     x_t, _ = backend.evaluate(c, it, eta)
     gap = np.einsum("pg,pg->p", x[ip] - x_t, normals[ip])
     n_t = backend.outward_normals(c, T.orientation, it, eta)
