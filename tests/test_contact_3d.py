@@ -18,6 +18,7 @@ import pytest
 
 from dolfinx_contact_s2s import (
     contact_pair,
+    contact_pairs,
     contact_surface,
     plane_obstacle,
     rigid_surface,
@@ -104,16 +105,28 @@ def test_unilateral_refuses_p2_triangle_multipliers():
 
 
 def test_what_faces_do_not_have_is_refused():
-    """Only composite segment-to-segment against meshed deformable targets, on faces."""
+    """Composite segment-to-segment and single-pass node-to-segment against meshed
+    deformable targets, on faces; tributary node weights but on P2 triangles."""
     (V_lo, t_lo), (V_up, t_up) = scene("hex", "tet", 1)[0]
     upper, lower = contact_surface(V_up, t_up, BOTTOM), contact_surface(V_lo, t_lo, TOP)
     for options in (
-        {"method": "node-to-segment"},
+        {"method": "node-to-node"},
+        {"method": "node-to-segment-gauss"},
+        {"method": "intermediate-surface"},
         {"quadrature": "gauss"},
         {"multiplier": ("DG", 0)},
     ):
         with pytest.raises(NotImplementedError, match="on the faces of 3D meshes"):
             contact_pair(upper, lower, **options)
+    with pytest.raises(NotImplementedError, match="two-pass"):
+        contact_pairs(upper, lower, method="two-pass node-to-segment")
+    with pytest.raises(ValueError, match="one multiplier on every contactor node"):
+        contact_pair(upper, lower, method="node-to-segment", multiplier=("Lagrange", 2))
+    (_, _), (V_p2, t_p2) = scene("hex", "tet", 2)[0]
+    with pytest.raises(ValueError, match=r"tributary area .* is zero"):
+        contact_pair(
+            contact_surface(V_p2, t_p2, BOTTOM), lower, method="node-to-segment", weight="tributary"
+        )
     with pytest.raises(NotImplementedError, match="2D meshes only"):
         contact_pair(upper, plane_obstacle([0.0, 0.0, 0.5], [0.0, 0.0, 1.0]))
     with pytest.raises(NotImplementedError, match="2D meshes only"):
