@@ -178,6 +178,8 @@ def main() -> int:
     too_long = sorted(short[m] for m in lines if lines[m] > args.max_lines)
     if too_long:
         print(f"longer than {args.max_lines} lines: " + ", ".join(too_long))
+    if sum(lines.values()) > args.max_total:
+        print(f"longer than {args.max_total} lines in all: {sum(lines.values())}")
     failed = bool(circles or upward or too_long or sum(lines.values()) > args.max_total)
     return int(args.check and failed)
 
