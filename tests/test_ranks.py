@@ -56,9 +56,11 @@ from petsc4py import PETSc
 import dolfinx
 import numpy as np
 import pytest
-import scipy.sparse
-import scipy.spatial
 import ufl
+from partition_keys import dof_perm as _dof_perm
+from partition_keys import gather as _gather
+from partition_keys import keys as _keys
+from partition_keys import match, matrix_difference, matrix_entries
 from readme_model import readme_mesh
 
 from dolfinx_contact_s2s import Material, contact_surface
@@ -403,23 +405,6 @@ def problem(case: Case, comm_name: str, partition: str) -> LinearContactProblem:
 # Records in a partition-independent numbering
 
 
-def _gather(comm: MPI.Comm, array: np.ndarray) -> np.ndarray:
-    """Concatenate the processes' arrays in rank order (owned blocks: the global order)."""
-    return np.concatenate(comm.allgather(np.asarray(array)))
-
-
-def _keys(V: dolfinx.fem.FunctionSpace, labels: np.ndarray | None) -> np.ndarray:
-    """``(label, x, y)`` of every global dof block of ``V``, on every process."""
-    imap = V.dofmap.index_map
-    n = imap.size_local
-    label = np.zeros(n + imap.num_ghosts)
-    if labels is not None:
-        cells = V.dofmap.list[: labels.size]
-        label[cells.reshape(-1)] = np.repeat(labels, cells.shape[1])
-    x = V.tabulate_dof_coordinates()[:n, :2]
-    return _gather(V.mesh.comm, np.column_stack([label[:n], x]))
-
-
 def _owned(f: dolfinx.fem.Function) -> np.ndarray:
     V = f.function_space
     return _gather(V.mesh.comm, f.x.array[: V.dofmap.index_map.size_local * V.dofmap.index_map_bs])
@@ -516,47 +501,13 @@ def record(case: Case, comm_name: str, partition: str) -> dict:
             if isinstance(p, UnilateralContactProblem):
                 entry["active"] = _owned(p.active[j])
             for V, B in op.blocks:
-                indptr, cols, vals = B.getValuesCSR()
-                r0, r1 = B.getOwnershipRange()
-                rows = r0 + np.repeat(np.arange(r1 - r0), np.diff(indptr))
-                entry["blocks"].append(
-                    (
-                        p.space_index(V),
-                        _gather(comm, rows.astype(np.int64)),
-                        _gather(comm, cols.astype(np.int64)),
-                        _gather(comm, vals),
-                    )
-                )
+                entry["blocks"].append((p.space_index(V), *matrix_entries(B)))
             rec["pairs"].append(entry)
     return rec
 
 
 # ---------------------------------------------------------------------------------------
 # Comparison
-
-
-def match(world: np.ndarray, serial: np.ndarray) -> np.ndarray:
-    """Index in ``serial`` of every row of ``world`` (``(label, x, y)`` keys).
-
-    Labels must agree exactly, coordinates to 1e-12 of the scene's size; the map must
-    be one to one.
-    """
-    assert world.shape == serial.shape, (world.shape, serial.shape)
-    size = max(np.ptp(serial[:, 1:], axis=0).max(), 1.0)
-    perm = np.full(world.shape[0], -1, dtype=np.int64)
-    for label in np.unique(serial[:, 0]):
-        s = np.flatnonzero(serial[:, 0] == label)
-        w = np.flatnonzero(world[:, 0] == label)
-        assert s.size == w.size, (label, s.size, w.size)
-        distance, nearest = scipy.spatial.cKDTree(serial[s, 1:]).query(world[w, 1:])
-        assert np.all(distance <= 1e-12 * size), distance.max()
-        perm[w] = s[nearest]
-    assert np.array_equal(np.sort(perm), np.arange(serial.shape[0])), "keys are not one to one"
-    return perm
-
-
-def _dof_perm(block_perm: np.ndarray, bs: int) -> np.ndarray:
-    return (block_perm[:, None] * bs + np.arange(bs)[None, :]).reshape(-1)
 
 
 def _note(quantity: str, case: Case, partition: str, diff: float, bound: float) -> None:
@@ -594,12 +545,9 @@ def compare(case: Case, partition: str, world: dict, serial: dict) -> dict[str, 
             out[f"active{j}"] = (float(np.count_nonzero(s["active"][q] != w["active"])), 0.0)
         scale = max(np.max(np.abs(b[3]), initial=0.0) for b in s["blocks"])
         assert [b[0] for b in w["blocks"]] == [b[0] for b in s["blocks"]]
-        for (i, rw, cw, vw), (_, rs, cs, vs) in zip(w["blocks"], s["blocks"], strict=True):
-            shape = (s["keys"].shape[0], perms[i].size)
-            Bs = scipy.sparse.csr_matrix((vs, (rs, cs)), shape=shape)
-            Bw = scipy.sparse.csr_matrix((vw, (q[rw], perms[i][cw])), shape=shape)
-            dB = abs(Bs - Bw).max() if Bs.nnz or Bw.nnz else 0.0
-            out[f"B{j}_{i}"] = (float(dB), B_FACTOR * EPS * scale)
+        for (i, *bw), (_, *bs) in zip(w["blocks"], s["blocks"], strict=True):
+            dB = matrix_difference(tuple(bw), tuple(bs), q, perms[i])
+            out[f"B{j}_{i}"] = (float(dB.max()) if dB.nnz else 0.0, B_FACTOR * EPS * scale)
     for name, (diff, bound) in out.items():
         quantity = "".join(c for c in name if not c.isdigit() and c != "_")
         _note(quantity, case, partition, diff, bound)
