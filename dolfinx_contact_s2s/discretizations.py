@@ -122,7 +122,7 @@ def _facet_integrals(pair: PairLike) -> npt.NDArray[np.floating]:
         _, _, dx = cs.evaluate(C, rows, xi)
         area = np.tile(w_face, n) * np.linalg.norm(np.cross(dx[:, :, 0], dx[:, :, 1]), axis=1)
         w = area[:, None] * space.basis(rows, xi, cs.backend)
-        return w.reshape(n, w_face.size, -1).sum(axis=1)
+        return w.reshape(n, w_face.size, w.shape[1]).sum(axis=1)  # n may be 0
     s_ref, w_ref = interval_rule("gauss", pair.multiplier_degree + 3)
     rows = np.repeat(np.arange(n, dtype=np.int32), s_ref.size)
     xi = np.tile(s_ref, n)
