@@ -79,6 +79,8 @@ def face_basis(surface, data, groups, nq, xi):
         basis = _CACHE[surface] = FaceBasis(surface.element, surface.cell_type)
     lf = data.local_facet[groups]
     bs = surface.V.dofmap.index_map_bs
-    cols = (basis.cols[lf][:, :, None] * bs + np.arange(bs)).reshape(len(groups), -1)
+    # Explicit sizes: a rank may have no groups.
+    nf = basis.cols.shape[1] * bs
+    cols = (basis.cols[lf][:, :, None] * bs + np.arange(bs)).reshape(len(groups), nf)
     phi = basis.values(np.repeat(lf, nq), np.ascontiguousarray(xi, dtype=np.float64))
     return phi, np.take_along_axis(data.dofs[groups], cols, axis=1)
