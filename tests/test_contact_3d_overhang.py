@@ -13,13 +13,16 @@ contact pressure P on the common square (Eq. 36, section 3.2).
 When the wide block is the contactor, its multipliers whose support faces no target
 carry no constraint (as in 2D, ``tests/test_pair_arrangements.py::test_overhang``):
 they are the nodes beyond x = 1 or y = 1, left out and zero. The others, and the whole
-multiplier of a narrow contactor (its target hangs over it), are P to round-off.
+multiplier of a narrow contactor (its target hangs over it), are P to round-off: 1e-10
+relative, or the solve's round-off bound where larger (the wide block, with the finer
+cells, as the contactor: as in the 3D fuzz).
 """
 
 import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
+from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from paper.blocks3d import BOTTOM, COMM, TOP, E, P, errors, scene
 
@@ -65,5 +68,9 @@ def test_overhang_patch_test(cells, degree, wide, contactor, overhang):
         dropped = pressure.x.array[: imap.size_local][np.isin(owned, uncovered)]
         assert COMM.allreduce(np.max(np.abs(dropped), initial=0.0), op=max) == 0.0
         worst_p, worst_u = errors(us, pressure, skip=uncovered)
-    assert worst_p <= 1e-10 * P
-    assert worst_u <= 1e-10 * P / E
+        bound = round_off_bound(problem)
+    # Exact to round-off: 1e-10 relative, or the solve's round-off bound where larger, as
+    # the 3D fuzz judges (the finer block as the contactor has backward errors up to
+    # 1e-11, README; measured by demo_3d on 2 ranks: pressure 1.5e-9, bound 3.9e-7).
+    assert worst_p <= max(1e-10 * P, bound.multiplier[0])
+    assert worst_u <= max(1e-10 * P / E, *bound.displacement)
