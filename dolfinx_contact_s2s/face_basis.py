@@ -1,9 +1,12 @@
 # SPDX-License-Identifier: MIT
-r"""The displacement basis on faces of 3D cells: the face's dofs only, no Basix per point.
+r"""The bases on faces of 3D cells: the face's dofs only, no Basix per point; the blocks.
 
 On a face only its dofs' functions are nonzero, polynomials in :math:`Q_p` of the face
 coordinates :math:`\xi` (:func:`~dolfinx_contact_s2s.faces.reference_vertices`): their
-monomial coefficients are fitted once per local face from Basix's tabulation.
+monomial coefficients are fitted once per local face from Basix's tabulation
+(:func:`fit_monomials`; the multiplier's once per contactor face). :func:`face_blocks`
+hands them to the kernels' ``face_coupling``, which integrates Eqs. (40)-(42) in one
+pass over the points.
 """
 
 from __future__ import annotations
@@ -15,10 +18,33 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s import faces
 from dolfinx_contact_s2s.compat import tabulate
+from dolfinx_contact_s2s.kernels.face_backend import monomials
 
 # Values below this are Basix's round-off, as ContactSurface.facet_basis drops them.
 ROUNDOFF = 1e-12
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def fit_monomials(element, degree: int, vertices: npt.NDArray[np.floating]) -> npt.NDArray:
+    r"""Monomial coefficients of ``element``'s functions on faces, ``(G, (degree + 1)^2, dim)``.
+
+    Face ``g`` is the map :math:`X_0 + \xi_1 (X_1 - X_0) + \xi_2 (X_2 - X_0)` of its
+    reference ``vertices[g]`` ``(G, 3, D)``; the row :math:`j (p + 1) + i` holds the
+    coefficient of :math:`\xi_1^i \xi_2^j`, fitted to Basix's tabulation (checked exact).
+    """
+    s = np.linspace(0.0, 1.0, degree + 2)
+    grid = np.stack(np.meshgrid(s, s, indexing="ij"), axis=-1).reshape(-1, 2)
+    V = monomials(grid, degree)
+    v = np.asarray(vertices, dtype=np.float64)
+    X = v[:, None, 0] + grid[None, :, :1] * (v[:, None, 1] - v[:, None, 0])
+    X = X + grid[None, :, 1:] * (v[:, None, 2] - v[:, None, 0])
+    table = tabulate(element, 0, X.reshape(-1, v.shape[2]))[0]
+    table = table.reshape(v.shape[0], grid.shape[0], element.dim)  # explicit: G may be 0
+    coef = np.einsum("mn,gnk->gmk", np.linalg.pinv(V), table)
+    coef[np.abs(coef) < ROUNDOFF] = 0.0
+    if not np.allclose(np.einsum("nm,gmk->gnk", V, coef), table, rtol=0.0, atol=1e-13):
+        raise ValueError("the basis on a face is not in Q_p of its coordinates")
+    return coef
 
 
 class FaceBasis:
@@ -28,17 +54,8 @@ class FaceBasis:
         """Fit ``element``'s functions on each face of ``cell`` (exact: checked)."""
         p = element.degree
         self.powers = np.array([(i, j) for j in range(p + 1) for i in range(p + 1)])
-        s = np.linspace(0.0, 1.0, p + 2)
-        grid = np.stack(np.meshgrid(s, s, indexing="ij"), axis=-1).reshape(-1, 2)
-        V = self.monomials(grid)
         coef, cols = [], []
-        for v in faces.reference_vertices(cell):
-            X = v[0] + grid[:, :1] * (v[1] - v[0]) + grid[:, 1:] * (v[2] - v[0])
-            table = tabulate(element, 0, X)[0]
-            c = np.linalg.lstsq(V, table, rcond=None)[0]
-            c[np.abs(c) < ROUNDOFF] = 0.0
-            if not np.allclose(V @ c, table, rtol=0.0, atol=1e-13):
-                raise ValueError("the basis on a face is not in Q_p of its coordinates")
+        for c in fit_monomials(element, p, faces.reference_vertices(cell)):
             keep = np.flatnonzero(np.any(c != 0.0, axis=0))
             coef.append(c[:, keep])
             cols.append(keep)
@@ -65,6 +82,23 @@ class FaceBasis:
         return out
 
 
+def _basis(surface) -> FaceBasis:
+    """The :class:`FaceBasis` of a surface's element, fitted once per surface."""
+    basis = _CACHE.get(surface)
+    if basis is None:
+        basis = _CACHE[surface] = FaceBasis(surface.element, surface.cell_type)
+    return basis
+
+
+def _face_dofs(surface, data, groups, basis: FaceBasis, lf) -> npt.NDArray[np.int64]:
+    """The unrolled dofs of the functions ``basis.cols[lf]`` of each group's face."""
+    bs = surface.V.dofmap.index_map_bs
+    # Explicit sizes: a rank may have no groups.
+    nf = basis.cols.shape[1] * bs
+    cols = (basis.cols[lf][:, :, None] * bs + np.arange(bs)).reshape(len(groups), nf)
+    return np.take_along_axis(data.dofs[groups], cols, axis=1)
+
+
 def face_basis(surface, data, groups, nq, xi):
     """The scalar basis at the points of ``groups`` (``nq`` each) and their unrolled dofs.
 
@@ -74,13 +108,51 @@ def face_basis(surface, data, groups, nq, xi):
     rows = np.repeat(groups, nq)
     if surface.facet_dim != 2:
         return surface.facet_basis(data, rows, xi), data.dofs[groups]
-    basis = _CACHE.get(surface)
-    if basis is None:
-        basis = _CACHE[surface] = FaceBasis(surface.element, surface.cell_type)
+    basis = _basis(surface)
     lf = data.local_facet[groups]
-    bs = surface.V.dofmap.index_map_bs
-    # Explicit sizes: a rank may have no groups.
-    nf = basis.cols.shape[1] * bs
-    cols = (basis.cols[lf][:, :, None] * bs + np.arange(bs)).reshape(len(groups), nf)
     phi = basis.values(np.repeat(lf, nq), np.ascontiguousarray(xi, dtype=np.float64))
-    return phi, np.take_along_axis(data.dofs[groups], cols, axis=1)
+    return phi, _face_dofs(surface, data, groups, basis, lf)
+
+
+def face_blocks(multiplier, contactor, C, target, T, groups) -> tuple[npt.NDArray, ...]:
+    """The local blocks of Eqs. (40)-(42) on faces, by the kernels' ``face_coupling``.
+
+    Args:
+        multiplier: The pair's :class:`~dolfinx_contact_s2s.multiplier.MultiplierSpace`.
+        contactor: The contactor surface.
+        C: Its data.
+        target: The target surface.
+        T: The target data cut against.
+        groups: The :class:`~dolfinx_contact_s2s.discretizations.PointGroups`.
+
+    Returns:
+        ``(rows, dofs_c, b_c, dofs_t, b_t, gap, coverage)``, the fields of
+        :class:`~dolfinx_contact_s2s.pair.CouplingBlocks`, one block per run of
+        consecutive groups on the same pair of faces (their sum).
+    """
+    sides = ((contactor, C, groups.contactor), (target, T, groups.target))
+    bases = [_basis(surface) for surface, _, _ in sides]
+    lfs = [data.local_facet[rows] for _, data, rows in sides]
+    mu = (multiplier.face_coefficients, groups.contactor)
+    first = np.zeros(0, dtype=np.int32)
+    if len(groups.contactor):
+        b_c, b_t, gap, coverage, first = contactor.backend.face_coupling(
+            C.coefficients,
+            C.orientation,
+            T.coefficients,
+            (groups.contactor, groups.target),
+            groups.xi,
+            groups.weights,
+            (mu, *((b.coef, lf) for b, lf in zip(bases, lfs, strict=True))),
+            square=True,
+            zero_below=ROUNDOFF,
+        )
+    dofs = [
+        _face_dofs(surface, data, rows[first], basis, lf[first])
+        for (surface, data, rows), basis, lf in zip(sides, bases, lfs, strict=True)
+    ]
+    if first.size == 0:  # Explicit sizes: a rank may have no groups.
+        nk = mu[0].shape[2]
+        b_c, b_t = (np.zeros((0, nk, d.shape[1])) for d in dofs)
+        gap = coverage = np.zeros((0, nk))
+    return groups.rows[first], dofs[0], b_c, dofs[1], b_t, gap, coverage

@@ -25,6 +25,7 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities, tabulate
+from dolfinx_contact_s2s.face_basis import fit_monomials
 from dolfinx_contact_s2s.kernels import KernelBackend
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
 
@@ -82,6 +83,16 @@ class MultiplierSpace:
     def edge_table(self) -> npt.NDArray[np.floating]:
         """The basis on an edge cell as polynomials in its parameter :math:`s` (monomials)."""
         return facet_monomials(self.element, np.zeros((1, 1)), np.ones((1, 1)))
+
+    @functools.cached_property
+    def face_coefficients(self) -> npt.NDArray[np.floating]:
+        r"""On faces, the basis on each contactor face as monomials of its coordinates.
+
+        :func:`~dolfinx_contact_s2s.face_basis.fit_monomials` through :attr:`corners`,
+        ``(F, (s + 1)^2, num_dofs)``: :meth:`basis` at :math:`\xi` is
+        :math:`\sum_{ij} \xi_1^i \xi_2^j` times row :math:`j (s + 1) + i`.
+        """
+        return fit_monomials(self.element, self.element.degree, self.corners)
 
     def basis(
         self, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating], backend: KernelBackend

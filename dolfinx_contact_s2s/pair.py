@@ -46,7 +46,7 @@ from dolfinx_contact_s2s.axisymmetry import (
 )
 from dolfinx_contact_s2s.contact_rule import contact_rule
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
-from dolfinx_contact_s2s.face_basis import face_basis
+from dolfinx_contact_s2s.face_basis import face_basis, face_blocks
 from dolfinx_contact_s2s.quadrature import RULES
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
@@ -71,7 +71,8 @@ METHODS = tuple(DISCRETIZATIONS)
 class CouplingBlocks:
     r"""Local blocks of :math:`B` and :math:`G` against one target, one row per group.
 
-    A group is a sub-segment or a contactor point (``S`` groups, ``nk`` multiplier dofs).
+    A group is a sub-segment or a contactor point (``S`` groups, ``nk`` multiplier dofs);
+    on faces, the pieces of one overlap of two faces, summed.
 
     Attributes:
         target: The target surface.
@@ -383,6 +384,8 @@ class ContactPair:
     def _integrate(self, ts: ContactSurface, T: SurfaceData, g: PointGroups) -> CouplingBlocks:
         """The blocks of Eqs. (40)-(42) at the points ``g`` against target ``ts``."""
         cs, C = self.contactor, self.contactor.data
+        if self.multiplier.corners is not None and not self.axisymmetric:
+            return CouplingBlocks(ts, *face_blocks(self.multiplier, cs, C, ts, T, g))
         S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
         rows_t = np.repeat(g.target, nq)

@@ -222,3 +222,113 @@ void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const d
       xi[2 * p] = xi[2 * p + 1] = t[p] = NAN;
   }
 }
+
+/* The functions of a monomial table at (x, y): out[n] = sum_m x^i y^j coef[m * N + n],
+ * m = j (p + 1) + i with (p + 1)^2 = M monomials (face_basis.FaceBasis.powers); values
+ * below zero_below in magnitude are set to 0 (Basix's round-off). */
+static void s2s_monomial_values(const double *coef, int M, int N, double x, double y,
+                                double zero_below, double *out)
+{
+  const int p1 = M == 1 ? 1 : (M == 4 ? 2 : (M == 9 ? 3 : 4));
+  double px[4] = {1.0, x, x * x, x * x * x}, py[4] = {1.0, y, y * y, y * y * y}, mono[16];
+  for (int j = 0; j < p1; ++j)
+    for (int i = 0; i < p1; ++i)
+      mono[j * p1 + i] = px[i] * py[j];
+  for (int n = 0; n < N; ++n)
+  {
+    double s = 0.0;
+    for (int m = 0; m < M; ++m)
+      s += mono[m] * coef[m * N + n];
+    out[n] = fabs(s) < zero_below ? 0.0 : s;
+  }
+}
+
+/* The local blocks of Eqs. (40)-(42) on faces, every step per point (face_backend.
+ * face_coupling, the reference): the contact normal N = -n_C at the contactor point
+ * xi, the target point met along it (Newton, Eq. 38; eta clipped to [0, 1]), the gap,
+ * the bases (monomial tables: multiplier mu, contactor phi_c at xi, target phi_t at
+ * eta) and the sums of s2s_segment_to_segment, with the coverage sum w mu (or mu^2).
+ * Coordinates relative to the contactor face's node 0, as the reference shifts them.
+ * Consecutive groups on the same pair of faces are summed into one block: first[b] is
+ * the first group of block b; returns the number of blocks. ok[s * Q + q] = 0 where
+ * Newton's method failed (the blocks then hold NaN). */
+int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
+                       const double *t_nodes, int Kt, const int32_t *rows_c,
+                       const int32_t *rows_t, const double *xi, const double *weights, int S,
+                       int Q, const double *mu_coef, int Mm, int nk, const int32_t *mu_index,
+                       const double *c_coef, int Mc, int nc, const int32_t *c_index,
+                       const double *t_coef, int Mt, int nt, const int32_t *t_index,
+                       int square, int iterations, double tol, double round_off,
+                       double zero_below, double *b_c, double *b_t, double *g,
+                       double *coverage, int32_t *first, int8_t *ok)
+{
+  int B = -1;
+  for (int s = 0; s < S; ++s)
+  {
+    const int more = s > 0 && rows_c[s] == rows_c[s - 1] && rows_t[s] == rows_t[s - 1];
+    if (!more)
+      first[++B] = s;
+    const double *c = c_nodes + (int64_t)rows_c[s] * Kc * 3;
+    const double *t = t_nodes + (int64_t)rows_t[s] * Kt * 3;
+    const double *mcoef = mu_coef + (int64_t)mu_index[s] * Mm * nk;
+    const double *ccoef = c_coef + (int64_t)c_index[s] * Mc * nc;
+    const double *tcoef = t_coef + (int64_t)t_index[s] * Mt * nt;
+    double cl[27], tl[27];
+    for (int k = 0; k < Kc; ++k)
+      for (int d = 0; d < 3; ++d)
+        cl[3 * k + d] = c[3 * k + d] + (-c[d]);
+    for (int k = 0; k < Kt; ++k)
+      for (int d = 0; d < 3; ++d)
+        tl[3 * k + d] = t[3 * k + d] + (-c[d]);
+    double *bc = b_c + (int64_t)B * nk * nc * 3;
+    double *bt = b_t + (int64_t)B * nk * nt * 3;
+    double *gs = g + (int64_t)B * nk, *cv = coverage + (int64_t)B * nk;
+    if (!more)
+    {
+      for (int i = 0; i < nk * nc * 3; ++i)
+        bc[i] = 0.0;
+      for (int i = 0; i < nk * nt * 3; ++i)
+        bt[i] = 0.0;
+      for (int k = 0; k < nk; ++k)
+        gs[k] = cv[k] = 0.0;
+    }
+    for (int q = 0; q < Q; ++q)
+    {
+      const int64_t sq = (int64_t)s * Q + q;
+      const double *x = xi + 2 * sq;
+      double xc[3], dx[6], xt[3], eta[2], tline, n[3], mu[16], pc[16], pt[16];
+      s2s_face_point(c, Kc, x, xc, dx);
+      n[0] = dx[2] * dx[5] - dx[4] * dx[3];
+      n[1] = dx[4] * dx[1] - dx[0] * dx[5];
+      n[2] = dx[0] * dx[3] - dx[2] * dx[1];
+      const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (int d = 0; d < 3; ++d)
+        n[d] = -(c_orientation[rows_c[s]] * (n[d] / length));
+      s2s_face_point(cl, Kc, x, xc, NULL);
+      ok[sq] = (int8_t)s2s_face_line(tl, Kt, xc, n, iterations, tol, round_off, eta, &tline);
+      if (!ok[sq])
+        eta[0] = eta[1] = NAN;
+      for (int d = 0; d < 2; ++d)
+        eta[d] = eta[d] < 0.0 ? 0.0 : (eta[d] > 1.0 ? 1.0 : eta[d]);
+      s2s_face_point(tl, Kt, eta, xt, NULL);
+      const double gap = (xc[0] - xt[0]) * n[0] + (xc[1] - xt[1]) * n[1] + (xc[2] - xt[2]) * n[2];
+      s2s_monomial_values(mcoef, Mm, nk, x[0], x[1], 0.0, mu);
+      s2s_monomial_values(ccoef, Mc, nc, x[0], x[1], zero_below, pc);
+      s2s_monomial_values(tcoef, Mt, nt, eta[0], eta[1], zero_below, pt);
+      const double w = weights[sq];
+      for (int k = 0; k < nk; ++k)
+      {
+        const double wm = mu[k] * w;
+        gs[k] += wm * gap;
+        cv[k] += (square ? mu[k] * mu[k] : mu[k]) * w;
+        for (int j = 0; j < nc; ++j)
+          for (int d = 0; d < 3; ++d)
+            bc[(k * nc + j) * 3 + d] += wm * pc[j] * n[d];
+        for (int j = 0; j < nt; ++j)
+          for (int d = 0; d < 3; ++d)
+            bt[(k * nt + j) * 3 + d] -= wm * pt[j] * n[d];
+      }
+    }
+  }
+  return B + 1;
+}

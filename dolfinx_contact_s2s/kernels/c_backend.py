@@ -94,6 +94,15 @@ void s2s_face_evaluate(const double *nodes, int K, const int32_t *rows, const do
 void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const double *origins,
                         const double *directions, int P, int iterations, double tol,
                         double round_off, double *xi, double *t, int8_t *ok);
+int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
+                       const double *t_nodes, int Kt, const int32_t *rows_c,
+                       const int32_t *rows_t, const double *xi, const double *weights, int S,
+                       int Q, const double *mu_coef, int Mm, int nk, const int32_t *mu_index,
+                       const double *c_coef, int Mc, int nc, const int32_t *c_index,
+                       const double *t_coef, int Mt, int nt, const int32_t *t_index,
+                       int square, int iterations, double tol, double round_off,
+                       double zero_below, double *b_c, double *b_t, double *g,
+                       double *coverage, int32_t *first, int8_t *ok);
 """
 
 #: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C

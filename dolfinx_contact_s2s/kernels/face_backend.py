@@ -33,9 +33,12 @@ __all__ = [
     "clip_polygons",
     "coo_to_csr",
     "evaluate",
+    "face_coupling",
     "facet_coefficients",
     "intersect",
     "intersect_lines",
+    "monomial_values",
+    "monomials",
     "outward_normals",
     "segment_to_segment",
     "shift",
@@ -113,6 +116,102 @@ def intersect(
     """
     eta, _ = polygon.intersect(coefficients, rows, origins, directions, iterations, tol)
     return eta
+
+
+def monomials(xi: _Array, degree: int) -> _Array:
+    r""":math:`\xi_1^i \xi_2^j` at points ``xi`` ``(P, 2)``, column :math:`j (d + 1) + i`."""
+    p = np.arange(degree + 1)
+    return (xi[:, None, 1:] ** p[:, None] * xi[:, None, :1] ** p).reshape(xi.shape[0], -1)
+
+
+def monomial_values(coef: _Array, index: _Rows, xi: _Array, zero_below: float = 0.0) -> _Array:
+    r"""Functions given by monomial tables at face coordinates, ``(P, N)``.
+
+    Point ``p`` takes the table ``coef[index[p]]`` of shape ``((d + 1)^2, N)``, the
+    coefficients of :math:`\xi_1^i \xi_2^j` in row :math:`j (d + 1) + i`
+    (:class:`~dolfinx_contact_s2s.face_basis.FaceBasis`); values below ``zero_below`` in
+    magnitude are set to zero.
+    """
+    mono = monomials(np.reshape(xi, (-1, 2)), math.isqrt(coef.shape[1]) - 1)
+    out = np.einsum("pm,pmn->pn", mono, coef[index])
+    out[np.abs(out) < zero_below] = 0.0
+    return out
+
+
+def face_coupling(
+    c_nodes: _Array,
+    c_orientation: _Array,
+    t_nodes: _Array,
+    rows: tuple[_Rows, _Rows],
+    xi: _Array,
+    weights: _Array,
+    bases: tuple[tuple[_Array, _Rows], ...],
+    square: bool = True,
+    zero_below: float = 0.0,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, ...]:
+    r"""The local blocks of Eqs. (40)-(42) on faces, from the points of each group.
+
+    At each point: the contact normal :math:`N = -n_C`, the target point met along it
+    (Eq. 38, reference coordinates clipped to :math:`[0, 1]`), the gap
+    :math:`(x_C - x_T) \cdot N`, all relative to the contactor face's node 0; the bases
+    from monomial tables (:func:`monomial_values`), and :func:`segment_to_segment`.
+
+    Args:
+        c_nodes: Contactor face nodes ``(Fc, Kc, 3)``.
+        c_orientation: Their orientation signs ``(Fc,)``.
+        t_nodes: Target face nodes ``(Ft, Kt, 3)``.
+        rows: Contactor and target face of each group, ``(S,)`` each.
+        xi: Contactor reference coordinates of the points, ``(S, Q, 2)``.
+        weights: The weights :math:`w^i` of Eq. (40), ``(S, Q)``.
+        bases: ``(coef, index)`` per group (``(S,)``) of the multiplier, the contactor
+            basis (at ``xi``) and the target basis (at the target points).
+        square: Whether the coverage sums :math:`w \mu^2` (else :math:`w \mu`).
+        zero_below: The displacement bases' values set to zero below it.
+        iterations: Newton iterations at most.
+        tol: Relative Newton stopping test.
+
+    Returns:
+        ``(B_C, B_T, G, coverage, first)``: the blocks of :func:`segment_to_segment` and
+        the coverage of :class:`~dolfinx_contact_s2s.pair.CouplingBlocks`, with the
+        consecutive groups on the same pair of faces summed into one block (the pieces
+        of one overlap: several times fewer entries to assemble); ``first`` is the first
+        group of each block.
+
+    Raises:
+        RuntimeError: Naming the points whose target line Newton's method misses.
+    """
+    S, Q = weights.shape
+    rc, rt = np.repeat(rows[0], Q), np.repeat(rows[1], Q)
+    x = np.reshape(xi, (-1, 2))
+    normals = -outward_normals(c_nodes, c_orientation, rc, x)
+    origin = c_nodes[rc, 0]
+    local = np.arange(rc.size, dtype=np.int32)
+    c_local = shift(c_nodes[rc], -origin)
+    t_local = shift(t_nodes[rt], -origin)
+    x_c, _ = evaluate(c_local, local, x)
+    eta, _ = polygon.intersect(t_local, local, x_c, normals, iterations, tol, "target point")
+    np.clip(eta, 0.0, 1.0, out=eta)
+    x_t, _ = evaluate(t_local, local, eta)
+    gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
+    (m_coef, m_index), (c_coef, c_index), (t_coef, t_index) = bases
+    mu = monomial_values(m_coef, np.repeat(m_index, Q), x).reshape(S, Q, -1)
+    phi_c = monomial_values(c_coef, np.repeat(c_index, Q), x, zero_below)
+    phi_t = monomial_values(t_coef, np.repeat(t_index, Q), eta, zero_below)
+    b_c, b_t, gap = segment_to_segment(
+        mu,
+        phi_c.reshape(S, Q, -1),
+        phi_t.reshape(S, Q, -1),
+        normals.reshape(S, Q, 3),
+        weights,
+        gaps.reshape(S, Q),
+    )
+    coverage = np.einsum("sqk,sq->sk", mu**2 if square else mu, weights)
+    same = (rows[0][1:] == rows[0][:-1]) & (rows[1][1:] == rows[1][:-1])
+    first = np.flatnonzero(np.concatenate([[True], ~same])).astype(np.int32)
+    blocks = (np.add.reduceat(a, first, axis=0) for a in (b_c, b_t, gap, coverage))
+    return (*blocks, first)
 
 
 def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:

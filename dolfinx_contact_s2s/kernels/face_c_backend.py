@@ -33,6 +33,8 @@ from dolfinx_contact_s2s.kernels.face_backend import (
     FACET_DIM,
     bounding_boxes,
     facet_coefficients,
+    monomial_values,
+    monomials,
     shift,
 )
 from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
@@ -44,9 +46,12 @@ __all__ = [
     "clip_polygons",
     "coo_to_csr",
     "evaluate",
+    "face_coupling",
     "facet_coefficients",
     "intersect",
     "intersect_lines",
+    "monomial_values",
+    "monomials",
     "outward_normals",
     "segment_to_segment",
     "shift",
@@ -155,3 +160,53 @@ def intersect(
     """
     eta, _ = intersect_lines(coefficients, rows, origins, directions, iterations, tol)
     return eta
+
+
+def face_coupling(
+    c_nodes: _Array,
+    c_orientation: _Array,
+    t_nodes: _Array,
+    rows: tuple[_Rows, _Rows],
+    xi: _Array,
+    weights: _Array,
+    bases: tuple[tuple[_Array, _Rows], ...],
+    square: bool = True,
+    zero_below: float = 0.0,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, ...]:
+    """:func:`~.face_backend.face_coupling` in one pass over the points (``_faces.c``).
+
+    Raises:
+        ValueError: For monomial tables of degree above 3 or more than 16 functions.
+        RuntimeError: Naming the points whose target line Newton's method misses.
+    """
+    ffi, lib = c_backend.compiled()
+    c, Kc = _nodes(c_nodes)
+    t, Kt = _nodes(t_nodes)
+    orientation = np.ascontiguousarray(c_orientation, dtype=np.float64)
+    rc, rt = (np.ascontiguousarray(r, dtype=np.int32) for r in rows)
+    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    S, Q = weights.shape
+    xi = np.ascontiguousarray(np.reshape(xi, (S * Q, 2)), dtype=np.float64)
+    arrays, args = [], []  # the tables, kept alive through the call, and their pointers
+    for coef, index in bases:
+        coef = np.ascontiguousarray(coef, dtype=np.float64)
+        if coef.shape[1] not in (1, 4, 9, 16) or coef.shape[2] > 16:
+            raise ValueError(f"monomial tables up to degree 3, 16 functions, not {coef.shape}")
+        index = np.ascontiguousarray(index, dtype=np.int32)
+        arrays += [coef, index]
+        args += [_ptr(ffi, coef), coef.shape[1], coef.shape[2], _ptr(ffi, index, "int32_t *")]
+    nk, nc, nt = (a.shape[2] for a in arrays[::2])
+    b_c, b_t = np.empty((S, nk, nc * 3)), np.empty((S, nk, nt * 3))
+    g, coverage, ok = np.empty((S, nk)), np.empty((S, nk)), np.empty(S * Q, dtype=np.int8)
+    first = np.empty(S, dtype=np.int32)
+    n = lib.s2s_face_coupling(
+        _ptr(ffi, c), Kc, _ptr(ffi, orientation), _ptr(ffi, t), Kt,
+        _ptr(ffi, rc, "int32_t *"), _ptr(ffi, rt, "int32_t *"), _ptr(ffi, xi),
+        _ptr(ffi, weights), S, Q, *args, int(bool(square)), int(iterations), float(tol),
+        float(ROUND_OFF), float(zero_below), _ptr(ffi, b_c), _ptr(ffi, b_t), _ptr(ffi, g),
+        _ptr(ffi, coverage), _ptr(ffi, first, "int32_t *"), _ptr(ffi, ok, "int8_t *"),
+    )  # fmt: skip
+    polygon.check_lines(np.arange(S * Q), ok.astype(bool), "target point", iterations)
+    return b_c[:n], b_t[:n], g[:n], coverage[:n], first[:n]
