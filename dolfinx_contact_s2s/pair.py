@@ -312,7 +312,7 @@ class ContactPair:
         """
         t = self.targets[target]
         T = t.gather() if data is None else data
-        ic, it = box_pairs(self.swept_boxes(), t.bounding_boxes(T))
+        ic, it = box_pairs(self.swept_boxes(), t.bounding_boxes(T), self.contactor.backend)
         C = self.contactor.data
         return self.segmentation.cut(C, T, ic, it, self.search_radius, self.contactor.backend)
 

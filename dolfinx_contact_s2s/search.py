@@ -30,7 +30,7 @@ from mpi4py import MPI
 import numpy as np
 import numpy.typing as npt
 
-from dolfinx_contact_s2s.kernels import KernelBackend
+from dolfinx_contact_s2s.kernels import KernelBackend, numpy_backend
 from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = [
@@ -60,13 +60,16 @@ class Hits:
 
 
 def box_pairs(
-    a: npt.NDArray[np.floating], b: npt.NDArray[np.floating]
+    a: npt.NDArray[np.floating],
+    b: npt.NDArray[np.floating],
+    backend: KernelBackend | None = None,
 ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
     """All pairs of overlapping boxes, by sweep and prune along the longest axis.
 
     Args:
         a: Boxes ``(na, 2, gdim)`` (lower and upper corners).
         b: Boxes ``(nb, 2, gdim)``.
+        backend: The kernels that test the candidates (``box_overlaps``); None: NumPy.
 
     Returns:
         Indices ``(ia, ib)`` of the overlapping pairs.
@@ -82,12 +85,8 @@ def box_pairs(
     width = float(np.max(b[:, 1, axis] - b[:, 0, axis]))
     start = np.searchsorted(b_lo, a[:, 0, axis] - width, side="left")
     stop = np.searchsorted(b_lo, a[:, 1, axis], side="right")
-    counts = np.maximum(stop - start, 0)
-    ia = np.repeat(np.arange(a.shape[0], dtype=np.int32), counts)
-    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    ib = order[np.repeat(start, counts) + offsets].astype(np.int32)
-    overlap = np.all((a[ia, 0] <= b[ib, 1]) & (b[ib, 0] <= a[ia, 1]), axis=1)
-    return ia[overlap], ib[overlap]
+    kernels = numpy_backend if backend is None else backend
+    return kernels.box_overlaps(a, b, order, start, stop)
 
 
 def default_search_radius(contactor: ContactSurface, targets: Sequence[ContactSurface]) -> float:

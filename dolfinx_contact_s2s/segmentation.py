@@ -232,21 +232,6 @@ class PolygonPieces:
         return self.contactor.size
 
 
-def _pull_back(
-    contactor: SurfaceData, rows: _Rows, x: _Array, frame: _Array, kernels: typing.Any
-) -> tuple[_Array, _Array, _Array]:
-    """Contactor reference coordinates, normals and area ratios of plane points ``x``."""
-    xi, _ = kernels.intersect_lines(
-        contactor.coefficients, rows, x, frame[:, 2], name="contactor face"
-    )
-    _, dx = kernels.evaluate(contactor.coefficients, rows, xi)
-    area = np.cross(dx[:, :, 0], dx[:, :, 1])
-    jac = np.linalg.norm(area, axis=1)
-    normals = contactor.orientation[rows, None] * area / jac[:, None]
-    ratio = jac / np.abs(np.einsum("pg,pg->p", area, frame[:, 2]))
-    return xi, normals, ratio
-
-
 class PolygonSegmentation:
     """Polygonal pieces of faces, the facets of 3D cells (section 5, Fig. 15(b)).
 
@@ -316,7 +301,7 @@ class PolygonSegmentation:
         pair = facing_pairs[owner]
         f, o = frame[pair], origin[pair]
         centroid = o + np.einsum("sd,sdg->sg", triangles.mean(axis=1), f[:, :2])
-        xi, normals, _ = _pull_back(C, ic[pair], centroid, f, kernels)
+        xi, normals, _ = kernels.pull_back(C.coefficients, C.orientation, ic[pair], centroid, f)
         x_c, _ = kernels.evaluate(C.coefficients, ic[pair], xi)
         _, gap = kernels.intersect_lines(T.coefficients, it[pair], x_c, normals, name="target face")
         keep = np.abs(gap) <= radius
@@ -347,20 +332,13 @@ class PolygonSegmentation:
             area element to the plane's.
         """
         X, W = (np.asarray(r, dtype=np.float64) for r in rule)
-        t = pieces.triangles
-        a, ab, ac = t[:, 0], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
-        plane = a[:, None] + X[None, :, :1] * ab[:, None] + X[None, :, 1:] * ac[:, None]
-        det = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
-        S, Q = len(pieces), W.size
-        if S == 0:
-            return np.zeros((0, Q, 2)), np.zeros((0, Q))
-        x = pieces.origin[:, None] + np.einsum("sqd,sdg->sqg", plane, pieces.frame[:, :2])
-        rows = np.repeat(pieces.contactor, Q)
+        if len(pieces) == 0:
+            return np.zeros((0, W.size, 2)), np.zeros((0, W.size))
         kernels = face_backend if backend is None else backend
-        xi, _, ratio = _pull_back(
-            contactor, rows, x.reshape(-1, 3), np.repeat(pieces.frame, Q, axis=0), kernels
+        p = pieces
+        return kernels.piece_points(
+            contactor.coefficients, p.contactor, p.triangles, p.origin, p.frame, (X, W)
         )
-        return xi.reshape(S, Q, 2), det[:, None] * W[None, :] * ratio.reshape(S, Q)
 
 
 #: The segmentation of each facet dimension (1: edges of 2D cells, 2: faces of 3D cells).

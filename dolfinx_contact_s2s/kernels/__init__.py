@@ -158,6 +158,17 @@ class KernelBackend(typing.Protocol):
         """The facets' geometry moved by one offset per facet."""
         ...
 
+    def box_overlaps(
+        self,
+        a: _Array,
+        b: _Array,
+        order: npt.NDArray[np.int64],
+        start: npt.NDArray[np.int64],
+        stop: npt.NDArray[np.int64],
+    ) -> tuple[_Rows, _Rows]:
+        """The overlapping pairs among a sweep's candidates (``search.box_pairs``)."""
+        ...
+
     def coo_to_csr(
         self,
         num_rows: int,

@@ -332,3 +332,67 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
   }
   return B + 1;
 }
+
+/* Pull-back of one plane point x along the plane's normal n onto face c (segmentation.
+ * _pull_back): xi, the outward unit normal (orientation sign) and the ratio of the
+ * face's area element to the plane's. Returns whether the line met the face. */
+static int s2s_face_pull_back_one(const double *c, int K, double sign, const double *x,
+                                  const double *n, int iterations, double tol,
+                                  double round_off, double *xi, double *normal, double *ratio)
+{
+  double t, y[3], dx[6], a[3];
+  const int ok = s2s_face_line(c, K, x, n, iterations, tol, round_off, xi, &t);
+  if (!ok)
+    xi[0] = xi[1] = NAN;
+  s2s_face_point(c, K, xi, y, dx);
+  a[0] = dx[2] * dx[5] - dx[4] * dx[3];
+  a[1] = dx[4] * dx[1] - dx[0] * dx[5];
+  a[2] = dx[0] * dx[3] - dx[2] * dx[1];
+  const double jac = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  for (int d = 0; d < 3; ++d)
+    normal[d] = sign * (a[d] / jac);
+  *ratio = jac / fabs(a[0] * n[0] + a[1] * n[1] + a[2] * n[2]);
+  return ok;
+}
+
+void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
+                        const int32_t *rows, const double *x, const double *frames, int P,
+                        int iterations, double tol, double round_off, double *xi,
+                        double *normals, double *ratio, int8_t *ok)
+{
+  for (int p = 0; p < P; ++p)
+    ok[p] = (int8_t)s2s_face_pull_back_one(
+        nodes + (int64_t)rows[p] * K * 3, K, orientation[rows[p]], x + 3 * p, frames + 9 * p + 6,
+        iterations, tol, round_off, xi + 2 * p, normals + 3 * p, ratio + p);
+}
+
+/* A triangle rule (X, W; Q points) on each piece (segmentation.PolygonSegmentation.
+ * points): the plane point of each rule point, pulled back to the contactor face along
+ * the plane's normal; its weight, the rule's times twice the triangle's area times the
+ * ratio of area elements. */
+void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
+                           const double *triangles, const double *origin, const double *frame,
+                           int S, const double *X, const double *W, int Q, int iterations,
+                           double tol, double round_off, double *xi, double *weights,
+                           int8_t *ok)
+{
+  for (int s = 0; s < S; ++s)
+  {
+    const double *tr = triangles + 6 * s, *o = origin + 3 * s, *f = frame + 9 * s;
+    const double ab[2] = {tr[2] - tr[0], tr[3] - tr[1]}, ac[2] = {tr[4] - tr[0], tr[5] - tr[1]};
+    const double det = fabs(ab[0] * ac[1] - ab[1] * ac[0]);
+    const double *c = nodes + (int64_t)rows[s] * K * 3;
+    for (int q = 0; q < Q; ++q)
+    {
+      const int64_t sq = (int64_t)s * Q + q;
+      double p[2], x[3], normal[3], ratio;
+      for (int d = 0; d < 2; ++d)
+        p[d] = tr[d] + X[2 * q] * ab[d] + X[2 * q + 1] * ac[d];
+      for (int g = 0; g < 3; ++g)
+        x[g] = o[g] + (p[0] * f[g] + p[1] * f[3 + g]);
+      ok[sq] = (int8_t)s2s_face_pull_back_one(c, K, 1.0, x, f + 6, iterations, tol, round_off,
+                                              xi + 2 * sq, normal, &ratio);
+      weights[sq] = det * W[q] * ratio;
+    }
+  }
+}

@@ -710,3 +710,28 @@ int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *c
   }
   return T;
 }
+
+/* The pairs of overlapping boxes among the sweep's candidates (search.box_pairs): box i
+ * of a (na, 2, gdim) against the boxes order[start[i]], ..., order[stop[i] - 1] of b,
+ * in that order; writes (ia, ib) and returns their number. */
+int64_t s2s_box_overlaps(const double *a, int64_t na, const double *b, int gdim,
+                         const int64_t *order, const int64_t *start, const int64_t *stop,
+                         int32_t *ia, int32_t *ib)
+{
+  int64_t n = 0;
+  for (int64_t i = 0; i < na; ++i)
+  {
+    const double *lo = a + 2 * gdim * i, *hi = lo + gdim;
+    for (int64_t k = start[i]; k < stop[i]; ++k)
+    {
+      const int64_t j = order[k];
+      const double *blo = b + 2 * gdim * j, *bhi = blo + gdim;
+      int overlap = 1;
+      for (int d = 0; d < gdim; ++d)
+        overlap &= (lo[d] <= bhi[d]) & (blo[d] <= hi[d]);
+      if (overlap)
+        ia[n] = (int32_t)i, ib[n++] = (int32_t)j;
+    }
+  }
+  return n;
+}

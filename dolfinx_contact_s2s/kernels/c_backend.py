@@ -37,6 +37,7 @@ __all__ = [
     "NEWTON_TOL",
     "ROUND_OFF",
     "bounding_boxes",
+    "box_overlaps",
     "cache_dir",
     "cell_normals",
     "clip_polygons",
@@ -82,6 +83,9 @@ void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation,
                        double min_length, double round_off, int iterations, double tol,
                        double *lo, double *hi, int8_t *keep);
 void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, double *out);
+int64_t s2s_box_overlaps(const double *a, int64_t na, const double *b, int gdim,
+                         const int64_t *order, const int64_t *start, const int64_t *stop,
+                         int32_t *ia, int32_t *ib);
 int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
                        const double *values, int64_t *indptr, int64_t *indices, double *data);
 int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_counts,
@@ -103,6 +107,15 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
                        int square, int iterations, double tol, double round_off,
                        double zero_below, double *b_c, double *b_t, double *g,
                        double *coverage, int32_t *first, int8_t *ok);
+void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
+                        const int32_t *rows, const double *x, const double *frames, int P,
+                        int iterations, double tol, double round_off, double *xi,
+                        double *normals, double *ratio, int8_t *ok);
+void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
+                           const double *triangles, const double *origin, const double *frame,
+                           int S, const double *X, const double *W, int Q, int iterations,
+                           double tol, double round_off, double *xi, double *weights,
+                           int8_t *ok);
 """
 
 #: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C
@@ -444,6 +457,28 @@ def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
     out = np.empty((F, 2, 2))
     lib.s2s_bounding_boxes(_ptr(ffi, c), M, F, int(samples), float(pad), _ptr(ffi, out))
     return out
+
+
+def box_overlaps(
+    a: _Array,
+    b: _Array,
+    order: npt.NDArray[np.int64],
+    start: npt.NDArray[np.int64],
+    stop: npt.NDArray[np.int64],
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """See :func:`~dolfinx_contact_s2s.kernels.numpy_backend.box_overlaps`."""
+    ffi, lib = _lib()
+    a, b = _f64(a), _f64(b)
+    order, start, stop = (np.ascontiguousarray(v, dtype=np.int64) for v in (order, start, stop))
+    stop = np.maximum(stop, start)
+    size = int(np.sum(stop - start))
+    ia, ib = np.empty(size, dtype=np.int32), np.empty(size, dtype=np.int32)
+    n = lib.s2s_box_overlaps(
+        _ptr(ffi, a), a.shape[0], _ptr(ffi, b), a.shape[2], _ptr(ffi, order, "int64_t *"),
+        _ptr(ffi, start, "int64_t *"), _ptr(ffi, stop, "int64_t *"),
+        _ptr(ffi, ia, "int32_t *"), _ptr(ffi, ib, "int32_t *"),
+    )  # fmt: skip
+    return ia[:n].copy(), ib[:n].copy()
 
 
 def coo_to_csr(

@@ -24,12 +24,18 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s.kernels import polygon
 from dolfinx_contact_s2s.kernels.clipping import clip_polygons, triangulate_polygons
-from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, coo_to_csr, segment_to_segment
+from dolfinx_contact_s2s.kernels.numpy_backend import (
+    NEWTON_TOL,
+    box_overlaps,
+    coo_to_csr,
+    segment_to_segment,
+)
 
 __all__ = [
     "FACET_DIM",
     "NAME",
     "bounding_boxes",
+    "box_overlaps",
     "clip_polygons",
     "coo_to_csr",
     "evaluate",
@@ -40,6 +46,8 @@ __all__ = [
     "monomial_values",
     "monomials",
     "outward_normals",
+    "piece_points",
+    "pull_back",
     "segment_to_segment",
     "shift",
     "triangulate_polygons",
@@ -116,6 +124,87 @@ def intersect(
     """
     eta, _ = polygon.intersect(coefficients, rows, origins, directions, iterations, tol)
     return eta
+
+
+def pull_back(
+    nodes: _Array,
+    orientation: _Array,
+    rows: _Rows,
+    x: _Array,
+    frames: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, _Array, _Array]:
+    r"""Plane points ``x`` ``(P, 3)`` pulled back to faces along their planes' normals.
+
+    Args:
+        nodes: Face nodes ``(F, K, 3)``.
+        orientation: The faces' orientation signs ``(F,)``.
+        rows: Face of each point ``(P,)``.
+        x: The points.
+        frames: Rows :math:`e_1, e_2, n` of each point's plane ``(P, 3, 3)``.
+        iterations: Newton iterations at most.
+        tol: Relative Newton stopping test.
+
+    Returns:
+        ``(xi, normals, ratio)``: reference coordinates ``(P, 2)``, outward unit normals
+        ``(P, 3)`` and the ratios of the faces' area elements to the planes' ``(P,)``.
+
+    Raises:
+        RuntimeError: Naming the faces that a line misses.
+    """
+    xi, _ = polygon.intersect(nodes, rows, x, frames[:, 2], iterations, tol, "contactor face")
+    _, dx = evaluate(nodes, rows, xi)
+    area = np.cross(dx[:, :, 0], dx[:, :, 1])
+    jac = np.linalg.norm(area, axis=1)
+    normals = orientation[rows, None] * area / jac[:, None]
+    ratio = jac / np.abs(np.einsum("pg,pg->p", area, frames[:, 2]))
+    return xi, normals, ratio
+
+
+def piece_points(
+    nodes: _Array,
+    rows: _Rows,
+    triangles: _Array,
+    origin: _Array,
+    frame: _Array,
+    rule: tuple[_Array, _Array],
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, _Array]:
+    r"""A triangle rule on plane triangles, pulled back to faces (Eq. 40).
+
+    Args:
+        nodes: Face nodes ``(F, K, 3)``.
+        rows: Face of each triangle ``(S,)``.
+        triangles: Vertices in plane coordinates ``(S, 3, 2)``.
+        origin: Origin of each triangle's plane ``(S, 3)``.
+        frame: Rows :math:`e_1, e_2, n` of each triangle's plane ``(S, 3, 3)``.
+        rule: Points ``(Q, 2)`` and weights ``(Q,)`` on the reference triangle.
+        iterations: Newton iterations at most.
+        tol: Relative Newton stopping test.
+
+    Returns:
+        ``(xi, weights)``: reference coordinates ``(S, Q, 2)`` found along the planes'
+        normals, and the rule's weights times twice the triangles' areas times the ratio
+        of the face's area element to the plane's ``(S, Q)``.
+    """
+    X, W = rule
+    a, ab, ac = (
+        triangles[:, 0],
+        triangles[:, 1] - triangles[:, 0],
+        triangles[:, 2] - triangles[:, 0],
+    )
+    plane = a[:, None] + X[None, :, :1] * ab[:, None] + X[None, :, 1:] * ac[:, None]
+    det = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
+    S, Q = triangles.shape[0], W.size
+    x = origin[:, None] + np.einsum("sqd,sdg->sqg", plane, frame[:, :2])
+    r = np.repeat(rows, Q)
+    xi, _, ratio = pull_back(
+        nodes, np.ones(nodes.shape[0]), r, x.reshape(-1, 3), np.repeat(frame, Q, axis=0),
+        iterations, tol,
+    )  # fmt: skip
+    return xi.reshape(S, Q, 2), det[:, None] * W[None, :] * ratio.reshape(S, Q)
 
 
 def monomials(xi: _Array, degree: int) -> _Array:

@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s.kernels import c_backend, polygon
 from dolfinx_contact_s2s.kernels.c_backend import (
+    box_overlaps,
     clip_polygons,
     coo_to_csr,
     segment_to_segment,
@@ -43,6 +44,7 @@ __all__ = [
     "FACET_DIM",
     "NAME",
     "bounding_boxes",
+    "box_overlaps",
     "clip_polygons",
     "coo_to_csr",
     "evaluate",
@@ -53,6 +55,8 @@ __all__ = [
     "monomial_values",
     "monomials",
     "outward_normals",
+    "piece_points",
+    "pull_back",
     "segment_to_segment",
     "shift",
     "triangulate_polygons",
@@ -210,3 +214,60 @@ def face_coupling(
     )  # fmt: skip
     polygon.check_lines(np.arange(S * Q), ok.astype(bool), "target point", iterations)
     return b_c[:n], b_t[:n], g[:n], coverage[:n], first[:n]
+
+
+def pull_back(
+    nodes: _Array,
+    orientation: _Array,
+    rows: _Rows,
+    x: _Array,
+    frames: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, _Array, _Array]:
+    """:func:`~.face_backend.pull_back` in one pass over the points (``_faces.c``)."""
+    ffi, lib = c_backend.compiled()
+    c, K = _nodes(nodes)
+    orientation = np.ascontiguousarray(orientation, dtype=np.float64)
+    rows = np.ascontiguousarray(rows, dtype=np.int32)
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    frames = np.ascontiguousarray(frames, dtype=np.float64)
+    P = rows.size
+    xi, normals, ratio = np.empty((P, 2)), np.empty((P, 3)), np.empty(P)
+    ok = np.empty(P, dtype=np.int8)
+    lib.s2s_face_pull_back(
+        _ptr(ffi, c), K, _ptr(ffi, orientation), _ptr(ffi, rows, "int32_t *"), _ptr(ffi, x),
+        _ptr(ffi, frames), P, int(iterations), float(tol), float(ROUND_OFF), _ptr(ffi, xi),
+        _ptr(ffi, normals), _ptr(ffi, ratio), _ptr(ffi, ok, "int8_t *"),
+    )  # fmt: skip
+    polygon.check_lines(rows, ok.astype(bool), "contactor face", iterations)
+    return xi, normals, ratio
+
+
+def piece_points(
+    nodes: _Array,
+    rows: _Rows,
+    triangles: _Array,
+    origin: _Array,
+    frame: _Array,
+    rule: tuple[_Array, _Array],
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, _Array]:
+    """:func:`~.face_backend.piece_points` in one pass over the pieces (``_faces.c``)."""
+    ffi, lib = c_backend.compiled()
+    c, K = _nodes(nodes)
+    rows = np.ascontiguousarray(rows, dtype=np.int32)
+    triangles, origin, frame = (
+        np.ascontiguousarray(a, dtype=np.float64) for a in (triangles, origin, frame)
+    )
+    X, W = (np.ascontiguousarray(r, dtype=np.float64) for r in rule)
+    S, Q = rows.size, W.size
+    xi, weights, ok = np.empty((S, Q, 2)), np.empty((S, Q)), np.empty(S * Q, dtype=np.int8)
+    lib.s2s_face_piece_points(
+        _ptr(ffi, c), K, _ptr(ffi, rows, "int32_t *"), _ptr(ffi, triangles), _ptr(ffi, origin),
+        _ptr(ffi, frame), S, _ptr(ffi, X), _ptr(ffi, W), Q, int(iterations), float(tol),
+        float(ROUND_OFF), _ptr(ffi, xi), _ptr(ffi, weights), _ptr(ffi, ok, "int8_t *"),
+    )  # fmt: skip
+    polygon.check_lines(np.repeat(rows, Q), ok.astype(bool), "contactor face", iterations)
+    return xi, weights

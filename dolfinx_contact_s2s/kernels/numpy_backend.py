@@ -31,6 +31,7 @@ __all__ = [
     "NEWTON_TOL",
     "ROUND_OFF",
     "bounding_boxes",
+    "box_overlaps",
     "cell_normals",
     "clip_segments",
     "coo_to_csr",
@@ -409,6 +410,33 @@ def bounding_boxes(coefficients: _Array, samples: int, pad: float) -> _Array:
     width = np.sqrt(np.sum((hi - lo) ** 2, axis=1))[:, None]
     width[np.all(coefficients[:, 2:] == 0.0, axis=(1, 2))] = 0.0
     return np.stack([lo - pad * width, hi + pad * width], axis=1)
+
+
+def box_overlaps(
+    a: _Array,
+    b: _Array,
+    order: npt.NDArray[np.int64],
+    start: npt.NDArray[np.int64],
+    stop: npt.NDArray[np.int64],
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """The overlapping pairs among the candidates of a sweep and prune.
+
+    Args:
+        a: Boxes ``(na, 2, gdim)`` (lower and upper corners).
+        b: Boxes ``(nb, 2, gdim)``.
+        order: The boxes of ``b`` in the sweep's order.
+        start: First candidate of each box of ``a`` in ``order``, ``(na,)``.
+        stop: One past its last candidate (none if ``stop <= start``), ``(na,)``.
+
+    Returns:
+        ``(ia, ib)``: the overlapping pairs, by ``ia`` then in the order of ``order``.
+    """
+    counts = np.maximum(stop - start, 0)
+    ia = np.repeat(np.arange(a.shape[0], dtype=np.int32), counts)
+    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    ib = order[np.repeat(start, counts) + offsets].astype(np.int32)
+    overlap = np.all((a[ia, 0] <= b[ib, 1]) & (b[ib, 0] <= a[ia, 1]), axis=1)
+    return ia[overlap], ib[overlap]
 
 
 def coo_to_csr(
