@@ -302,28 +302,34 @@ def project_faces(
     Raises:
         ValueError: Naming a contactor or target face of zero area.
     """
-    _check_areas(c_nodes, ic, round_off, "contactor face")
-    _check_areas(t_nodes, it, round_off, "target face")
-    cc = corner_nodes(c_nodes)[ic]
-    tc = corner_nodes(t_nodes)[it]
-    origin = cc.mean(axis=1)
-    cc = cc - origin[:, None]
-    tc = tc - origin[:, None]
 
     def outward(corners: _Array, sign: _Array) -> _Array:
         rel = corners - corners.mean(axis=1, keepdims=True)
         return sign[:, None] * _unit(np.cross(rel, np.roll(rel, -1, axis=1)).sum(axis=1))
 
-    n = outward(cc, c_orientation[ic])
-    facing = np.einsum("pg,pg->p", n, outward(tc, t_orientation[it])) < 0.0
+    def counter_clockwise(poly: _Array) -> _Array:
+        clockwise = signed_area(poly) < 0.0
+        poly[clockwise] = poly[clockwise, ::-1]
+        return poly
+
+    # Each face's plane, normal and polygon once (a face meets several), then per pair.
+    faces, ic = np.unique(ic, return_inverse=True)
+    t_faces, it = np.unique(it, return_inverse=True)
+    _check_areas(c_nodes, faces, round_off, "contactor face")
+    _check_areas(t_nodes, t_faces, round_off, "target face")
+    cc = corner_nodes(c_nodes[faces])
+    origin = cc.mean(axis=1)
+    cc = cc - origin[:, None]
+    n = outward(cc, c_orientation[faces])
     edge = cc[:, 1] - cc[:, 0]
     e1 = _unit(edge - np.einsum("pg,pg->p", edge, n)[:, None] * n)
     frame = np.stack([e1, np.cross(n, e1), n], axis=1)
-    c_poly = np.einsum("pmg,pdg->pmd", cc, frame[:, :2])
-    t_poly = np.einsum("pmg,pdg->pmd", tc, frame[:, :2])
-    for poly in (c_poly, t_poly):
-        clockwise = signed_area(poly) < 0.0
-        poly[clockwise] = poly[clockwise, ::-1]
+    c_poly = counter_clockwise(np.einsum("pmg,pdg->pmd", cc, frame[:, :2]))[ic]
+    t_corners = corner_nodes(t_nodes[t_faces])
+    facing = np.einsum("pg,pg->p", n[ic], outward(t_corners, t_orientation[t_faces])[it]) < 0.0
+    origin, frame = origin[ic], frame[ic]
+    tc = t_corners[it] - origin[:, None]
+    t_poly = counter_clockwise(np.einsum("pmg,pdg->pmd", tc, frame[:, :2]))
     return origin, frame, c_poly, t_poly, facing
 
 
