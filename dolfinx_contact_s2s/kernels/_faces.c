@@ -12,6 +12,7 @@
  */
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 /* The face basis phi[k] and its derivatives dphi[d * K + k] at (x, y). Returns 0 for an
  * unsupported K. Basix's numbering: the square's vertices (0,0), (1,0), (0,1), (1,1),
@@ -104,33 +105,35 @@ void s2s_face_evaluate(const double *nodes, int K, const int32_t *rows, const do
     s2s_face_point(nodes + (int64_t)rows[p] * K * 3, K, xi + 2 * p, x + 3 * p, dx + 6 * p);
 }
 
-/* Solve A z = b (3x3, row-major) by Gaussian elimination with partial pivoting. Returns 0
- * if A is not finite or singular relative to Hadamard's bound (round_off times the
- * product of its column lengths), as polygon._solve decides. */
-static int s2s_solve3(const double *A_in, const double *b_in, double round_off, double *z)
+/* A 3x3 matrix A (row-major) factored by Gaussian elimination with partial pivoting:
+ * the pivot row and multipliers of each step and the upper triangle. ok = 0 if A is not
+ * finite or singular relative to Hadamard's bound (round_off times the product of its
+ * column lengths), as polygon._solve decides. */
+typedef struct
 {
-  double A[9], b[3], bound = 1.0;
+  double U[9], f[3][3];
+  int pivot[3], ok;
+} s2s_lu3;
+
+static void s2s_lu3_factor(const double *A_in, double round_off, s2s_lu3 *lu)
+{
+  double *A = lu->U, bound = 1.0, det = 1.0;
+  lu->ok = 0;
   for (int i = 0; i < 9; ++i)
   {
     if (!isfinite(A_in[i]))
-      return 0;
+      return;
     A[i] = A_in[i];
-  }
-  for (int i = 0; i < 3; ++i)
-  {
-    if (!isfinite(b_in[i]))
-      return 0;
-    b[i] = b_in[i];
   }
   for (int j = 0; j < 3; ++j)
     bound *= sqrt(A[j] * A[j] + A[3 + j] * A[3 + j] + A[6 + j] * A[6 + j]);
-  double det = 1.0;
   for (int k = 0; k < 3; ++k)
   {
     int p = k;
     for (int i = k + 1; i < 3; ++i)
       if (fabs(A[3 * i + k]) > fabs(A[3 * p + k]))
         p = i;
+    lu->pivot[k] = p;
     if (p != k)
     {
       for (int j = 0; j < 3; ++j)
@@ -138,72 +141,122 @@ static int s2s_solve3(const double *A_in, const double *b_in, double round_off, 
         const double s = A[3 * k + j];
         A[3 * k + j] = A[3 * p + j], A[3 * p + j] = s;
       }
-      const double s = b[k];
-      b[k] = b[p], b[p] = s;
       det = -det;
     }
     det *= A[3 * k + k];
     if (A[3 * k + k] == 0.0)
-      return 0;
+      return;
     for (int i = k + 1; i < 3; ++i)
     {
       const double f = A[3 * i + k] / A[3 * k + k];
+      lu->f[i][k] = f;
       for (int j = k; j < 3; ++j)
         A[3 * i + j] -= f * A[3 * k + j];
-      b[i] -= f * b[k];
     }
   }
-  if (!(fabs(det) > round_off * bound))
+  lu->ok = fabs(det) > round_off * bound;
+}
+
+/* Solve A z = b with the factors of A: the same operations on b as eliminating it with A.
+ * Returns 0 if A was refused or b is not finite. */
+static int s2s_lu3_solve(const s2s_lu3 *lu, const double *b_in, double *z)
+{
+  double b[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    if (!isfinite(b_in[i]))
+      return 0;
+    b[i] = b_in[i];
+  }
+  if (!lu->ok)
     return 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int p = lu->pivot[k];
+    if (p != k)
+    {
+      const double s = b[k];
+      b[k] = b[p], b[p] = s;
+    }
+    for (int i = k + 1; i < 3; ++i)
+      b[i] -= lu->f[i][k] * b[k];
+  }
+  const double *U = lu->U;
   for (int i = 2; i >= 0; --i)
   {
     double s = b[i];
     for (int j = i + 1; j < 3; ++j)
-      s -= A[3 * i + j] * z[j];
-    z[i] = s / A[3 * i + i];
+      s -= U[3 * i + j] * z[j];
+    z[i] = s / U[3 * i + i];
   }
   return 1;
 }
 
-/* Where the line o + t d crosses face c (K nodes): polygon.intersect for one line. The
- * start is the flat face through nodes 0, 1, 2 (final for K = 3), then Newton's method
- * on x(xi) - (o + t d) = 0 until a step is below tol (1 + |xi|) and tol (h + |t|). All
- * relative to node 0. Returns whether it converged. */
-static int s2s_face_line(const double *nodes, int K, const double *origin, const double *d,
-                         int iterations, double tol, double round_off, double *xi, double *t)
+/* A face ready for lines: its nodes relative to node 0, its size h (the largest node
+ * distance from node 0) and the factors of the last start matrix, reused while the
+ * next line gives the same matrix (the same direction: a flat contactor's normal). */
+typedef struct
 {
-  double c[27], o[3], A[9], z[3];
+  const double *nodes;
+  double c[27], h, key[9];
+  int K, cached;
+  s2s_lu3 start;
+} s2s_face;
+
+static void s2s_face_prepare(const double *nodes, int K, s2s_face *f)
+{
+  f->nodes = nodes, f->K = K, f->cached = 0, f->h = 0.0;
   for (int k = 0; k < K; ++k)
     for (int g = 0; g < 3; ++g)
-      c[3 * k + g] = nodes[3 * k + g] - nodes[g];
+      f->c[3 * k + g] = nodes[3 * k + g] - nodes[g];
+  const double *c = f->c;
+  for (int k = 0; k < K; ++k)
+    f->h = fmax(f->h, sqrt(c[3 * k] * c[3 * k] + c[3 * k + 1] * c[3 * k + 1] +
+                           c[3 * k + 2] * c[3 * k + 2]));
+}
+
+/* Where the line o + t d crosses face f: polygon.intersect for one line. The start is
+ * the flat face through nodes 0, 1, 2 (final for K = 3), then Newton's method on
+ * x(xi) - (o + t d) = 0 until a step is below tol (1 + |xi|) and tol (h + |t|). All
+ * relative to node 0. Returns whether it converged. */
+static int s2s_face_line_on(s2s_face *f, const double *origin, const double *d, int iterations,
+                            double tol, double round_off, double *xi, double *t)
+{
+  const double *c = f->c;
+  const int K = f->K;
+  double o[3], A[9], z[3];
   for (int g = 0; g < 3; ++g)
   {
-    o[g] = origin[g] - nodes[g];
+    o[g] = origin[g] - f->nodes[g];
     A[3 * g] = c[3 + g], A[3 * g + 1] = c[6 + g], A[3 * g + 2] = -d[g];
   }
-  if (!s2s_solve3(A, o, round_off, z))
+  if (!f->cached || memcmp(f->key, A, sizeof A) != 0)
+  {
+    s2s_lu3_factor(A, round_off, &f->start);
+    memcpy(f->key, A, sizeof A);
+    f->cached = 1;
+  }
+  if (!s2s_lu3_solve(&f->start, o, z))
     return 0;
   xi[0] = z[0], xi[1] = z[1], *t = z[2];
   if (K == 3)
     return isfinite(xi[0]) && isfinite(xi[1]) && isfinite(*t);
-  double h = 0.0;
-  for (int k = 0; k < K; ++k)
-    h = fmax(h, sqrt(c[3 * k] * c[3 * k] + c[3 * k + 1] * c[3 * k + 1] +
-                     c[3 * k + 2] * c[3 * k + 2]));
   for (int it = 0; it < iterations; ++it)
   {
     double x[3], dx[6], r[3];
+    s2s_lu3 lu;
     s2s_face_point(c, K, xi, x, dx);
     for (int g = 0; g < 3; ++g)
     {
       A[3 * g] = dx[2 * g], A[3 * g + 1] = dx[2 * g + 1], A[3 * g + 2] = -d[g];
       r[g] = x[g] - o[g] - *t * d[g];
     }
-    if (!s2s_solve3(A, r, round_off, z))
+    s2s_lu3_factor(A, round_off, &lu);
+    if (!s2s_lu3_solve(&lu, r, z))
       return 0;
     xi[0] -= z[0], xi[1] -= z[1], *t -= z[2];
     if (fabs(z[0]) <= tol * (1.0 + fabs(xi[0])) && fabs(z[1]) <= tol * (1.0 + fabs(xi[1])) &&
-        fabs(z[2]) <= tol * (h + fabs(*t)))
+        fabs(z[2]) <= tol * (f->h + fabs(*t)))
       return isfinite(xi[0]) && isfinite(xi[1]) && isfinite(*t);
   }
   return 0;
@@ -213,11 +266,13 @@ void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const d
                         const double *directions, int P, int iterations, double tol,
                         double round_off, double *xi, double *t, int8_t *ok)
 {
+  s2s_face f;
   for (int p = 0; p < P; ++p)
   {
-    ok[p] = (int8_t)s2s_face_line(nodes + (int64_t)rows[p] * K * 3, K, origins + 3 * p,
-                                  directions + 3 * p, iterations, tol, round_off, xi + 2 * p,
-                                  t + p);
+    if (p == 0 || rows[p] != rows[p - 1])
+      s2s_face_prepare(nodes + (int64_t)rows[p] * K * 3, K, &f);
+    ok[p] = (int8_t)s2s_face_line_on(&f, origins + 3 * p, directions + 3 * p, iterations, tol,
+                                     round_off, xi + 2 * p, t + p);
     if (!ok[p])
       xi[2 * p] = xi[2 * p + 1] = t[p] = NAN;
   }
@@ -280,6 +335,8 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
     for (int k = 0; k < Kt; ++k)
       for (int d = 0; d < 3; ++d)
         tl[3 * k + d] = t[3 * k + d] + (-c[d]);
+    s2s_face target;
+    s2s_face_prepare(tl, Kt, &target);
     double *bc = b_c + (int64_t)B * nk * nc * 3;
     double *bt = b_t + (int64_t)B * nk * nt * 3;
     double *gs = g + (int64_t)B * nk, *cv = coverage + (int64_t)B * nk;
@@ -305,7 +362,7 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
       for (int d = 0; d < 3; ++d)
         n[d] = -(c_orientation[rows_c[s]] * (n[d] / length));
       s2s_face_point(cl, Kc, x, xc, NULL);
-      ok[sq] = (int8_t)s2s_face_line(tl, Kt, xc, n, iterations, tol, round_off, eta, &tline);
+      ok[sq] = (int8_t)s2s_face_line_on(&target, xc, n, iterations, tol, round_off, eta, &tline);
       if (!ok[sq])
         eta[0] = eta[1] = NAN;
       for (int d = 0; d < 2; ++d)
@@ -336,15 +393,15 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
 /* Pull-back of one plane point x along the plane's normal n onto face c (segmentation.
  * _pull_back): xi, the outward unit normal (orientation sign) and the ratio of the
  * face's area element to the plane's. Returns whether the line met the face. */
-static int s2s_face_pull_back_one(const double *c, int K, double sign, const double *x,
-                                  const double *n, int iterations, double tol,
-                                  double round_off, double *xi, double *normal, double *ratio)
+static int s2s_face_pull_back_one(s2s_face *f, double sign, const double *x, const double *n,
+                                  int iterations, double tol, double round_off, double *xi,
+                                  double *normal, double *ratio)
 {
   double t, y[3], dx[6], a[3];
-  const int ok = s2s_face_line(c, K, x, n, iterations, tol, round_off, xi, &t);
+  const int ok = s2s_face_line_on(f, x, n, iterations, tol, round_off, xi, &t);
   if (!ok)
     xi[0] = xi[1] = NAN;
-  s2s_face_point(c, K, xi, y, dx);
+  s2s_face_point(f->nodes, f->K, xi, y, dx);
   a[0] = dx[2] * dx[5] - dx[4] * dx[3];
   a[1] = dx[4] * dx[1] - dx[0] * dx[5];
   a[2] = dx[0] * dx[3] - dx[2] * dx[1];
@@ -360,10 +417,15 @@ void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
                         int iterations, double tol, double round_off, double *xi,
                         double *normals, double *ratio, int8_t *ok)
 {
+  s2s_face f;
   for (int p = 0; p < P; ++p)
-    ok[p] = (int8_t)s2s_face_pull_back_one(
-        nodes + (int64_t)rows[p] * K * 3, K, orientation[rows[p]], x + 3 * p, frames + 9 * p + 6,
-        iterations, tol, round_off, xi + 2 * p, normals + 3 * p, ratio + p);
+  {
+    if (p == 0 || rows[p] != rows[p - 1])
+      s2s_face_prepare(nodes + (int64_t)rows[p] * K * 3, K, &f);
+    ok[p] = (int8_t)s2s_face_pull_back_one(&f, orientation[rows[p]], x + 3 * p,
+                                           frames + 9 * p + 6, iterations, tol, round_off,
+                                           xi + 2 * p, normals + 3 * p, ratio + p);
+  }
 }
 
 /* A triangle rule (X, W; Q points) on each piece (segmentation.PolygonSegmentation.
@@ -378,10 +440,11 @@ void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
 {
   for (int s = 0; s < S; ++s)
   {
-    const double *tr = triangles + 6 * s, *o = origin + 3 * s, *f = frame + 9 * s;
+    const double *tr = triangles + 6 * s, *o = origin + 3 * s, *fr = frame + 9 * s;
     const double ab[2] = {tr[2] - tr[0], tr[3] - tr[1]}, ac[2] = {tr[4] - tr[0], tr[5] - tr[1]};
     const double det = fabs(ab[0] * ac[1] - ab[1] * ac[0]);
-    const double *c = nodes + (int64_t)rows[s] * K * 3;
+    s2s_face f;
+    s2s_face_prepare(nodes + (int64_t)rows[s] * K * 3, K, &f);
     for (int q = 0; q < Q; ++q)
     {
       const int64_t sq = (int64_t)s * Q + q;
@@ -389,8 +452,8 @@ void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
       for (int d = 0; d < 2; ++d)
         p[d] = tr[d] + X[2 * q] * ab[d] + X[2 * q + 1] * ac[d];
       for (int g = 0; g < 3; ++g)
-        x[g] = o[g] + (p[0] * f[g] + p[1] * f[3 + g]);
-      ok[sq] = (int8_t)s2s_face_pull_back_one(c, K, 1.0, x, f + 6, iterations, tol, round_off,
+        x[g] = o[g] + (p[0] * fr[g] + p[1] * fr[3 + g]);
+      ok[sq] = (int8_t)s2s_face_pull_back_one(&f, 1.0, x, fr + 6, iterations, tol, round_off,
                                               xi + 2 * sq, normal, &ratio);
       weights[sq] = det * W[q] * ratio;
     }
