@@ -292,7 +292,7 @@ class PolygonSegmentation:
                 none, none, np.zeros((0, 3, 2)), np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0)
             )
         kernels = face_backend if backend is None else backend
-        origin, frame, c_poly, t_poly, facing = polygon.project_faces(
+        origin, frame, c_poly, t_poly, facing = kernels.project_faces(
             C.coefficients, C.orientation, T.coefficients, T.orientation, ic, it
         )
         facing_pairs = np.flatnonzero(facing).astype(np.int32)

@@ -459,3 +459,133 @@ void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
     }
   }
 }
+
+/* The m corners of a face of K nodes, counter-clockwise in the reference cell
+ * (polygon.corner_nodes: Basix numbers the square's vertices (0,0), (1,0), (0,1), (1,1)). */
+static int s2s_corners(const double *nodes, int K, double *out)
+{
+  static const int order[2][4] = {{0, 1, 2, 0}, {0, 1, 3, 2}};
+  const int m = (K == 3 || K == 6) ? 3 : 4;
+  for (int i = 0; i < m; ++i)
+    for (int g = 0; g < 3; ++g)
+      out[3 * i + g] = nodes[3 * order[m - 3][i] + g];
+  return m;
+}
+
+/* The unit vector area of corners (relative to their mean) times sign, and whether the
+ * area exceeds round_off times the size squared (polygon.project_faces' outward and
+ * _check_areas). */
+static int s2s_outward(const double *corners, int m, double sign, double round_off, double *n)
+{
+  double mean[3], rel[12], v[3] = {0.0, 0.0, 0.0}, size = 0.0;
+  for (int g = 0; g < 3; ++g)
+  {
+    double s = 0.0;
+    for (int i = 0; i < m; ++i)
+      s += corners[3 * i + g];
+    mean[g] = s / m;
+  }
+  for (int i = 0; i < m; ++i)
+    for (int g = 0; g < 3; ++g)
+      rel[3 * i + g] = corners[3 * i + g] - mean[g];
+  for (int i = 0; i < m; ++i)
+  {
+    const double *a = rel + 3 * i, *b = rel + 3 * ((i + 1) % m);
+    v[0] += a[1] * b[2] - a[2] * b[1];
+    v[1] += a[2] * b[0] - a[0] * b[2];
+    v[2] += a[0] * b[1] - a[1] * b[0];
+    size = fmax(size, sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]));
+  }
+  const double length = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (int g = 0; g < 3; ++g)
+    n[g] = sign * (v[g] / length);
+  return 0.5 * length > round_off * size * size;
+}
+
+/* Corners relative to origin drawn in the plane (e1, e2), counter-clockwise. */
+static void s2s_plane_polygon(const double *corners, int m, const double *origin,
+                              const double *frame, double *poly)
+{
+  double area = 0.0;
+  for (int i = 0; i < m; ++i)
+  {
+    double r[3];
+    for (int g = 0; g < 3; ++g)
+      r[g] = corners[3 * i + g] - origin[g];
+    for (int d = 0; d < 2; ++d)
+      poly[2 * i + d] = r[0] * frame[3 * d] + r[1] * frame[3 * d + 1] + r[2] * frame[3 * d + 2];
+  }
+  for (int i = 0; i < m; ++i)
+  {
+    const int j = (i + 1) % m;
+    area += poly[2 * i] * poly[2 * j + 1] - poly[2 * j] * poly[2 * i + 1];
+  }
+  if (area < 0.0)
+    for (int i = 0; i < m / 2; ++i)
+      for (int d = 0; d < 2; ++d)
+      {
+        const double s = poly[2 * i + d];
+        poly[2 * i + d] = poly[2 * (m - 1 - i) + d], poly[2 * (m - 1 - i) + d] = s;
+      }
+}
+
+/* polygon.project_faces for candidate pairs (ic, it): the contactor face's plane (origin
+ * at its corners' centroid, frame rows e1, e2, n), both corner polygons in it, whether
+ * the outward normals oppose, and whether each face has an area (ok_c, ok_t). A face's
+ * own quantities are computed once while the candidates repeat it. */
+void s2s_face_project(const double *c_nodes, int Kc, const double *c_orientation,
+                      const double *t_nodes, int Kt, const double *t_orientation,
+                      const int32_t *ic, const int32_t *it, int N, double round_off,
+                      double *origin, double *frame, double *c_poly, double *t_poly,
+                      int8_t *facing, int8_t *ok_c, int8_t *ok_t)
+{
+  double cc[12], tc[12], o[3], f[9], nt[3], poly[8];
+  int mc = 0, mt = 0, area_c = 0, area_t = 0;
+  for (int p = 0; p < N; ++p)
+  {
+    if (p == 0 || ic[p] != ic[p - 1])
+    {
+      double rel[12], edge[3];
+      mc = s2s_corners(c_nodes + (int64_t)ic[p] * Kc * 3, Kc, cc);
+      area_c = s2s_outward(cc, mc, 1.0, round_off, f + 6);
+      for (int g = 0; g < 3; ++g)
+      {
+        double s = 0.0;
+        for (int i = 0; i < mc; ++i)
+          s += cc[3 * i + g];
+        o[g] = s / mc;
+      }
+      for (int i = 0; i < mc; ++i)
+        for (int g = 0; g < 3; ++g)
+          rel[3 * i + g] = cc[3 * i + g] - o[g];
+      s2s_outward(rel, mc, c_orientation[ic[p]], round_off, f + 6);
+      const double *n = f + 6;
+      for (int g = 0; g < 3; ++g)
+        edge[g] = rel[3 + g] - rel[g];
+      const double en = edge[0] * n[0] + edge[1] * n[1] + edge[2] * n[2];
+      for (int g = 0; g < 3; ++g)
+        f[g] = edge[g] - en * n[g];
+      const double l = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      for (int g = 0; g < 3; ++g)
+        f[g] /= l;
+      f[3] = n[1] * f[2] - n[2] * f[1];
+      f[4] = n[2] * f[0] - n[0] * f[2];
+      f[5] = n[0] * f[1] - n[1] * f[0];
+      s2s_plane_polygon(cc, mc, o, f, poly);
+    }
+    if (p == 0 || it[p] != it[p - 1])
+    {
+      mt = s2s_corners(t_nodes + (int64_t)it[p] * Kt * 3, Kt, tc);
+      area_t = s2s_outward(tc, mt, t_orientation[it[p]], round_off, nt);
+    }
+    for (int i = 0; i < 3; ++i)
+      origin[3 * p + i] = o[i];
+    for (int i = 0; i < 9; ++i)
+      frame[9 * p + i] = f[i];
+    for (int i = 0; i < 2 * mc; ++i)
+      c_poly[2 * mc * p + i] = poly[i];
+    s2s_plane_polygon(tc, mt, o, f, t_poly + 2 * mt * p);
+    facing[p] = f[6] * nt[0] + f[7] * nt[1] + f[8] * nt[2] < 0.0;
+    ok_c[p] = (int8_t)area_c, ok_t[p] = (int8_t)area_t;
+  }
+}

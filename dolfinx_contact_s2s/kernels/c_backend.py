@@ -116,6 +116,11 @@ void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
                            int S, const double *X, const double *W, int Q, int iterations,
                            double tol, double round_off, double *xi, double *weights,
                            int8_t *ok);
+void s2s_face_project(const double *c_nodes, int Kc, const double *c_orientation,
+                      const double *t_nodes, int Kt, const double *t_orientation,
+                      const int32_t *ic, const int32_t *it, int N, double round_off,
+                      double *origin, double *frame, double *c_poly, double *t_poly,
+                      int8_t *facing, int8_t *ok_c, int8_t *ok_t);
 """
 
 #: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C

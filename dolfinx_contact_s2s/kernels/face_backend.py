@@ -47,6 +47,7 @@ __all__ = [
     "monomials",
     "outward_normals",
     "piece_points",
+    "project_faces",
     "pull_back",
     "segment_to_segment",
     "shift",
@@ -58,6 +59,9 @@ FACET_DIM = 2
 
 #: The backend's name (:data:`~dolfinx_contact_s2s.kernels.BACKENDS`).
 NAME = "numpy"
+
+#: Candidate face pairs drawn in the contactor faces' planes (Fig. 15(b)).
+project_faces = polygon.project_faces
 
 #: Reference coordinates and line parameters where lines cross faces, raising a
 #: RuntimeError naming the faces missed (:func:`~.polygon.intersect`).

@@ -56,6 +56,7 @@ __all__ = [
     "monomials",
     "outward_normals",
     "piece_points",
+    "project_faces",
     "pull_back",
     "segment_to_segment",
     "shift",
@@ -271,3 +272,38 @@ def piece_points(
     )  # fmt: skip
     polygon.check_lines(np.repeat(rows, Q), ok.astype(bool), "contactor face", iterations)
     return xi, weights
+
+
+def project_faces(
+    c_nodes: _Array,
+    c_orientation: _Array,
+    t_nodes: _Array,
+    t_orientation: _Array,
+    ic: _Rows,
+    it: _Rows,
+    round_off: float = ROUND_OFF,
+) -> tuple[_Array, _Array, _Array, _Array, npt.NDArray[np.bool_]]:
+    """:func:`~.polygon.project_faces` in one pass over the candidate pairs (``_faces.c``).
+
+    Raises:
+        ValueError: Naming a contactor or target face of zero area (as the reference).
+    """
+    ffi, lib = c_backend.compiled()
+    c, Kc = _nodes(c_nodes)
+    t, Kt = _nodes(t_nodes)
+    co, to = (np.ascontiguousarray(o, dtype=np.float64) for o in (c_orientation, t_orientation))
+    ic, it = (np.ascontiguousarray(r, dtype=np.int32) for r in (ic, it))
+    N = ic.size
+    mc, mt = (3 if K in (3, 6) else 4 for K in (Kc, Kt))
+    origin, frame = np.empty((N, 3)), np.empty((N, 3, 3))
+    c_poly, t_poly = np.empty((N, mc, 2)), np.empty((N, mt, 2))
+    facing, ok_c, ok_t = (np.empty(N, dtype=np.int8) for _ in range(3))
+    lib.s2s_face_project(
+        _ptr(ffi, c), Kc, _ptr(ffi, co), _ptr(ffi, t), Kt, _ptr(ffi, to),
+        _ptr(ffi, ic, "int32_t *"), _ptr(ffi, it, "int32_t *"), N, float(round_off),
+        _ptr(ffi, origin), _ptr(ffi, frame), _ptr(ffi, c_poly), _ptr(ffi, t_poly),
+        _ptr(ffi, facing, "int8_t *"), _ptr(ffi, ok_c, "int8_t *"), _ptr(ffi, ok_t, "int8_t *"),
+    )  # fmt: skip
+    if not (np.all(ok_c) and np.all(ok_t)):  # The reference names the faces.
+        polygon.project_faces(c_nodes, c_orientation, t_nodes, t_orientation, ic, it, round_off)
+    return origin, frame, c_poly, t_poly, facing.astype(bool)
