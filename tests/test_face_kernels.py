@@ -5,9 +5,12 @@
 ``face_backend`` (NumPy, Basix and LAPACK) and ``face_c_backend`` (``_faces.c``) share
 their signatures; the C geometry must agree with the reference to round-off: the face
 points and tangents (and Basix's own tabulation), the Newton pull-back along lines
-(Eq. 38) on flat, bilinear and curved faces with the same refusals, the pieces of
-``PolygonSegmentation.cut`` and, through the whole pair, the assembled B and G of
-Eqs. (40)-(42) on the non-matching 3D blocks of the patch test (serial and on 2 ranks).
+(Eq. 38) on flat, bilinear and curved faces with the same refusals, the projection of
+candidate pairs, the pull-back of the pieces' rule, the box search, the fused local
+blocks (``face_coupling``), the pieces of ``PolygonSegmentation.cut`` and, through the
+whole pair, the assembled B and G of Eqs. (40)-(42) on the non-matching 3D blocks of the
+patch test (serial and on 2 ranks). The fused blocks are also checked against the
+composition of the per-step kernels with Basix's multiplier basis.
 """
 
 import shutil
@@ -15,12 +18,14 @@ import sysconfig
 
 from mpi4py import MPI
 
+import basix
 import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.assemble import assemble_coupling
-from dolfinx_contact_s2s.kernels import face_backend, get_backend, polygon
+from dolfinx_contact_s2s.face_basis import face_basis
+from dolfinx_contact_s2s.kernels import face_backend, get_backend, numpy_backend, polygon
 from dolfinx_contact_s2s.search import box_pairs
 from dolfinx_contact_s2s.segmentation import PolygonSegmentation
 from paper.blocks3d import BOTTOM, TOP, scene
@@ -103,6 +108,103 @@ def test_line_along_the_face_is_refused_by_both(face_c, num_nodes):
             module.intersect_lines(nodes, rows, x, along, name="target face")
 
 
+def facing_faces(num_c, num_t, rng, count=12):
+    """Contactor faces near z = 0 facing up, target faces near z = 0.05 facing down."""
+    c = smooth_faces(num_c, rng, count, bulge=0.02)
+    t = smooth_faces(num_t, rng, count, bulge=0.02)
+    for nodes, up in ((c, 1.0), (t, -1.0)):
+        ref = polygon.face_element(nodes.shape[1]).points
+        for f in range(count):
+            y = np.zeros((nodes.shape[1], 3))
+            y[:, :2] = ref + 0.05 * rng.uniform(-1, 1, ref.shape)
+            y[:, 2] = 0.02 * rng.uniform(-1, 1, nodes.shape[1]) + (0.05 if up < 0 else 0.0)
+            nodes[f] = y
+    # Orientation: +1 where d1 x d2 points along `up` (the reference faces' d1 x d2 is +z).
+    return c, np.ones(count), t, -np.ones(count)
+
+
+@pytest.mark.parametrize("num_nodes", [(3, 4), (4, 3), (6, 9), (9, 6)])
+def test_project_faces_agrees_with_the_reference(face_c, num_nodes):
+    rng = np.random.default_rng(sum(num_nodes))
+    c, co, t, to = facing_faces(*num_nodes, rng)
+    ic = np.sort(rng.integers(0, c.shape[0], 60)).astype(np.int32)
+    it = rng.integers(0, t.shape[0], 60).astype(np.int32)
+    co[::3] = -1.0  # some pairs that do not face each other
+    ref = polygon.project_faces(c, co, t, to, ic, it)
+    out = face_c.project_faces(c, co, t, to, ic, it)
+    for a, b in zip(out[:4], ref[:4], strict=True):
+        assert np.max(np.abs(a - b)) <= 16 * EPS
+    np.testing.assert_array_equal(out[4], ref[4])
+    assert 0 < np.count_nonzero(ref[4]) < ic.size
+    flat = c.copy()
+    flat[1, :, :] = flat[1, :1, :]  # a face of zero area, named as the reference names it
+    with pytest.raises(ValueError, match="contactor face 1 has zero area"):
+        face_c.project_faces(flat, co, t, to, ic, it)
+
+
+@pytest.mark.parametrize("num_nodes", [3, 4, 6, 9])
+def test_pull_back_agrees_with_the_reference(face_c, num_nodes):
+    """Plane points pulled back along the plane normal, and a rule on plane triangles."""
+    rng = np.random.default_rng(20 + num_nodes)
+    c, co, t, _ = facing_faces(num_nodes, 3, rng)
+    ic = np.arange(c.shape[0], dtype=np.int32)
+    origin, frame, c_poly, _, _ = polygon.project_faces(c, co, t, -co, ic, ic)
+    triangles = np.ascontiguousarray(c_poly[:, :3])
+    rule = basix.make_quadrature(basix.CellType.triangle, 4)
+    xi_ref, w_ref = face_backend.piece_points(c, ic, triangles, origin, frame, rule)
+    xi, w = face_c.piece_points(c, ic, triangles, origin, frame, rule)
+    assert np.max(np.abs(xi - xi_ref)) <= 1e-13
+    assert np.max(np.abs(w - w_ref)) <= 1e-14 * np.max(w_ref)
+    assert np.all(w > 0.0)
+    rows = np.repeat(ic, 4)
+    in_plane = 0.2 * rng.uniform(-1, 1, (rows.size, 2))
+    x = origin[rows] + np.einsum("pd,pdg->pg", in_plane, frame[rows, :2])
+    frames = frame[rows]
+    ref = face_backend.pull_back(c, co, rows, x, frames)
+    out = face_c.pull_back(c, co, rows, x, frames)
+    for a, b in zip(out, ref, strict=True):
+        assert np.max(np.abs(a - b)) <= 1e-13
+
+
+def test_box_overlaps_agree(face_c):
+    rng = np.random.default_rng(5)
+    lo_a, lo_b = rng.random((300, 3)), rng.random((200, 3))
+    a = np.stack([lo_a, lo_a + 0.1 * rng.random((300, 3))], axis=1)
+    b = np.stack([lo_b, lo_b + 0.1 * rng.random((200, 3))], axis=1)
+    ref = box_pairs(a, b, numpy_backend)
+    out = box_pairs(a, b, face_c)
+    for x, y in zip(out, ref, strict=True):
+        np.testing.assert_array_equal(x, y)
+    brute = np.all((a[:, None, 0] <= b[None, :, 1]) & (b[None, :, 0] <= a[:, None, 1]), axis=2)
+    np.testing.assert_array_equal(brute[ref], np.ones(ref[0].size, bool))
+    assert ref[0].size == np.count_nonzero(brute)
+
+
+@pytest.mark.parametrize("num_nodes", [(3, 4), (4, 3), (6, 9), (9, 6)])
+def test_face_coupling_agrees_with_the_reference(face_c, num_nodes):
+    """The fused blocks, C against NumPy, with runs of groups on one pair of faces summed."""
+    rng = np.random.default_rng(30 + sum(num_nodes))
+    c, co, t, _ = facing_faces(*num_nodes, rng)
+    S, Q = 40, 6
+    rows_c = np.sort(rng.integers(0, c.shape[0], S)).astype(np.int32)
+    rows_t = rng.integers(0, 2, S).astype(np.int32)  # runs of equal (contactor, target)
+    xi = 0.3 * rng.random((S, Q, 2))
+    weights = rng.random((S, Q))
+    tables = [
+        (rng.standard_normal((G, m, n)), rng.integers(0, G, S).astype(np.int32))
+        for G, m, n in ((c.shape[0], 4, 3), (4, 9, 6), (6, 4, 4))
+    ]
+    tables[0] = (tables[0][0], rows_c)
+    args = (c, co, t, (rows_c, rows_t), xi, weights, tables)
+    ref = face_backend.face_coupling(*args, zero_below=1e-12)
+    out = face_c.face_coupling(*args, zero_below=1e-12)
+    np.testing.assert_array_equal(out[4], ref[4])
+    assert ref[4].size < S  # some runs were summed
+    for a, b in zip(out[:4], ref[:4], strict=True):
+        assert a.shape == b.shape
+        assert np.max(np.abs(a - b)) <= 1e-13 * np.max(np.abs(b))
+
+
 def test_zero_face_nodes_are_refused(face_c):
     with pytest.raises(ValueError, match="faces with 5 nodes are not supported"):
         face_c.evaluate(np.zeros((1, 5, 3)), np.zeros(1, np.int32), np.zeros((1, 2)))
@@ -167,3 +269,59 @@ def test_pair_blocks_agree(face_c, cells, degree):
     scale = comm.allreduce(np.max(np.abs(ref_g), initial=0.0), op=MPI.MAX)
     worst = comm.allreduce(np.max(np.abs(g - ref_g), initial=0.0), op=MPI.MAX)
     assert worst <= 1e-14 * max(scale, 1.0)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "c"])
+@pytest.mark.parametrize("degree", [1, 2])
+@pytest.mark.parametrize("cells", [("hex", "tet"), ("tet", "hex")])
+def test_fused_blocks_agree_with_the_steps(face_c, backend, cells, degree):
+    """The blocks of ``face_coupling`` against the per-step kernels and Basix's multiplier.
+
+    The multiplier evaluated by Basix at each point (``MultiplierSpace.basis``), the face
+    bases, the target points and ``segment_to_segment`` per piece, then the pieces of one
+    pair of faces summed: what the pair's fused blocks must hold, to round-off.
+    """
+    ((upper, lower),) = surfaces(cells, degree, [backend])
+    pair = contact_pair(upper, lower)
+    kernels = upper.backend
+    T = pair.discretization.gathered(pair)[0]
+    g = pair.discretization.points(pair, [T])[0]
+    (blocks,) = pair.coupling_blocks()
+    C = upper.data
+    S, Q = g.weights.shape
+    rows_c, rows_t = np.repeat(g.contactor, Q), np.repeat(g.target, Q)
+    xi = g.xi.reshape(-1, 2)
+    normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
+    # Relative to each contactor face's node 0, as the pair does (the gaps vanish here).
+    origin, local = C.coefficients[rows_c, 0], np.arange(rows_c.size, dtype=np.int32)
+    c_local = kernels.shift(C.coefficients[rows_c], -origin)
+    t_local = kernels.shift(T.coefficients[rows_t], -origin)
+    x_c, _ = kernels.evaluate(c_local, local, xi)
+    eta = np.clip(kernels.intersect(t_local, local, x_c, normals), 0.0, 1.0)
+    x_t, _ = kernels.evaluate(t_local, local, eta)
+    gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
+    mu = pair.multiplier.basis(rows_c, xi, kernels).reshape(S, Q, -1)
+    phi_c, _ = face_basis(upper, C, g.contactor, Q, xi)
+    phi_t, _ = face_basis(lower, T, g.target, Q, eta)
+    b_c, b_t, gap = numpy_backend.segment_to_segment(
+        mu,
+        phi_c.reshape(S, Q, -1),
+        phi_t.reshape(S, Q, -1),
+        normals.reshape(S, Q, 3),
+        g.weights,
+        gaps.reshape(S, Q),
+    )
+    coverage = np.einsum("sqk,sq->sk", mu**2, g.weights)
+    run = np.concatenate([[0], np.cumsum((np.diff(g.contactor) != 0) | (np.diff(g.target) != 0))])
+    for steps, fused in (
+        (b_c, blocks.values_contactor),
+        (b_t, blocks.values_target),
+        (gap, blocks.gap),
+        (coverage, blocks.coverage),
+    ):
+        summed = np.zeros(fused.shape)
+        np.add.at(summed, run, steps)
+        # A gap of zero is compared with the size of the other integrals.
+        scale = max(np.max(np.abs(summed), initial=0.0), np.max(blocks.coverage))
+        assert np.max(np.abs(fused - summed), initial=0.0) <= 1e-13 * scale
+    np.testing.assert_array_equal(blocks.rows, g.rows[np.flatnonzero(np.diff(run, prepend=-1))])
