@@ -278,17 +278,23 @@ void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const d
   }
 }
 
-/* The functions of a monomial table at (x, y): out[n] = sum_m x^i y^j coef[m * N + n],
- * m = j (p + 1) + i with (p + 1)^2 = M monomials (face_basis.FaceBasis.powers); values
- * below zero_below in magnitude are set to 0 (Basix's round-off). */
-static void s2s_monomial_values(const double *coef, int M, int N, double x, double y,
-                                double zero_below, double *out)
+/* The monomials x^i y^j of Q_p at (x, y), m = j (p + 1) + i with (p + 1)^2 = M
+ * (face_basis.FaceBasis.powers). */
+static void s2s_monomials(int M, double x, double y, double *mono)
 {
   const int p1 = M == 1 ? 1 : (M == 4 ? 2 : (M == 9 ? 3 : 4));
-  double px[4] = {1.0, x, x * x, x * x * x}, py[4] = {1.0, y, y * y, y * y * y}, mono[16];
+  const double px[4] = {1.0, x, x * x, x * x * x}, py[4] = {1.0, y, y * y, y * y * y};
   for (int j = 0; j < p1; ++j)
     for (int i = 0; i < p1; ++i)
       mono[j * p1 + i] = px[i] * py[j];
+}
+
+/* The N functions of a monomial table at the M monomials mono: out[n] = sum_m mono[m]
+ * coef[m * N + n]; values below zero_below in magnitude are set to 0 (Basix's
+ * round-off). */
+static void s2s_monomial_values(const double *coef, int M, int N, const double *mono,
+                                double zero_below, double *out)
+{
   for (int n = 0; n < N; ++n)
   {
     double s = 0.0;
@@ -304,10 +310,10 @@ static void s2s_monomial_values(const double *coef, int M, int N, double x, doub
  * the bases (monomial tables: multiplier mu, contactor phi_c at xi, target phi_t at
  * eta) and the sums of s2s_segment_to_segment, with the coverage sum w mu (or mu^2).
  * Coordinates relative to the contactor face's node 0, as the reference shifts them.
- * Consecutive groups on the same pair of faces are summed into one block: first[b] is
- * the first group of block b; returns the number of blocks. ok[s * Q + q] = 0 where
+ * Consecutive groups on the same pair of faces are summed into one block (face_backend.
+ * runs gives their number and first groups). ok[s * Q + q] = 0 where
  * Newton's method failed (the blocks then hold NaN). */
-int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
+void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
                        const double *t_nodes, int Kt, const int32_t *rows_c,
                        const int32_t *rows_t, const double *xi, const double *weights, int S,
                        int Q, const double *mu_coef, int Mm, int nk, const int32_t *mu_index,
@@ -315,14 +321,13 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
                        const double *t_coef, int Mt, int nt, const int32_t *t_index,
                        int square, int iterations, double tol, double round_off,
                        double zero_below, double *b_c, double *b_t, double *g,
-                       double *coverage, int32_t *first, int8_t *ok)
+                       double *coverage, int8_t *ok)
 {
   int B = -1;
   for (int s = 0; s < S; ++s)
   {
     const int more = s > 0 && rows_c[s] == rows_c[s - 1] && rows_t[s] == rows_t[s - 1];
-    if (!more)
-      first[++B] = s;
+    B += !more;
     const double *c = c_nodes + (int64_t)rows_c[s] * Kc * 3;
     const double *t = t_nodes + (int64_t)rows_t[s] * Kt * 3;
     const double *mcoef = mu_coef + (int64_t)mu_index[s] * Mm * nk;
@@ -349,18 +354,22 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
       for (int k = 0; k < nk; ++k)
         gs[k] = cv[k] = 0.0;
     }
+    double n[3];
     for (int q = 0; q < Q; ++q)
     {
       const int64_t sq = (int64_t)s * Q + q;
       const double *x = xi + 2 * sq;
-      double xc[3], dx[6], xt[3], eta[2], tline, n[3], mu[16], pc[16], pt[16];
-      s2s_face_point(c, Kc, x, xc, dx);
-      n[0] = dx[2] * dx[5] - dx[4] * dx[3];
-      n[1] = dx[4] * dx[1] - dx[0] * dx[5];
-      n[2] = dx[0] * dx[3] - dx[2] * dx[1];
-      const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      for (int d = 0; d < 3; ++d)
-        n[d] = -(c_orientation[rows_c[s]] * (n[d] / length));
+      double xc[3], dx[6], xt[3], eta[2], tline, mu[16], pc[16], pt[16];
+      if (q == 0 || Kc != 3) /* the tangents of a P1 face do not depend on xi */
+      {
+        s2s_face_point(c, Kc, x, xc, dx);
+        n[0] = dx[2] * dx[5] - dx[4] * dx[3];
+        n[1] = dx[4] * dx[1] - dx[0] * dx[5];
+        n[2] = dx[0] * dx[3] - dx[2] * dx[1];
+        const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int d = 0; d < 3; ++d)
+          n[d] = -(c_orientation[rows_c[s]] * (n[d] / length));
+      }
       s2s_face_point(cl, Kc, x, xc, NULL);
       ok[sq] = (int8_t)s2s_face_line_on(&target, xc, n, iterations, tol, round_off, eta, &tline);
       if (!ok[sq])
@@ -369,9 +378,14 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
         eta[d] = eta[d] < 0.0 ? 0.0 : (eta[d] > 1.0 ? 1.0 : eta[d]);
       s2s_face_point(tl, Kt, eta, xt, NULL);
       const double gap = (xc[0] - xt[0]) * n[0] + (xc[1] - xt[1]) * n[1] + (xc[2] - xt[2]) * n[2];
-      s2s_monomial_values(mcoef, Mm, nk, x[0], x[1], 0.0, mu);
-      s2s_monomial_values(ccoef, Mc, nc, x[0], x[1], zero_below, pc);
-      s2s_monomial_values(tcoef, Mt, nt, eta[0], eta[1], zero_below, pt);
+      double mono[16], mono_t[16];
+      s2s_monomials(Mm, x[0], x[1], mono);
+      s2s_monomial_values(mcoef, Mm, nk, mono, 0.0, mu);
+      if (Mc != Mm)
+        s2s_monomials(Mc, x[0], x[1], mono);
+      s2s_monomial_values(ccoef, Mc, nc, mono, zero_below, pc);
+      s2s_monomials(Mt, eta[0], eta[1], mono_t);
+      s2s_monomial_values(tcoef, Mt, nt, mono_t, zero_below, pt);
       const double w = weights[sq];
       for (int k = 0; k < nk; ++k)
       {
@@ -387,7 +401,6 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
       }
     }
   }
-  return B + 1;
 }
 
 /* Pull-back of one plane point x along the plane's normal n onto face c (segmentation.
@@ -406,8 +419,9 @@ static int s2s_face_pull_back_one(s2s_face *f, double sign, const double *x, con
   a[1] = dx[4] * dx[1] - dx[0] * dx[5];
   a[2] = dx[0] * dx[3] - dx[2] * dx[1];
   const double jac = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  for (int d = 0; d < 3; ++d)
-    normal[d] = sign * (a[d] / jac);
+  if (normal)
+    for (int d = 0; d < 3; ++d)
+      normal[d] = sign * (a[d] / jac);
   *ratio = jac / fabs(a[0] * n[0] + a[1] * n[1] + a[2] * n[2]);
   return ok;
 }
@@ -445,16 +459,21 @@ void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
     const double det = fabs(ab[0] * ac[1] - ab[1] * ac[0]);
     s2s_face f;
     s2s_face_prepare(nodes + (int64_t)rows[s] * K * 3, K, &f);
+    double ratio = 0.0, t;
     for (int q = 0; q < Q; ++q)
     {
       const int64_t sq = (int64_t)s * Q + q;
-      double p[2], x[3], normal[3], ratio;
+      double p[2], x[3];
       for (int d = 0; d < 2; ++d)
         p[d] = tr[d] + X[2 * q] * ab[d] + X[2 * q + 1] * ac[d];
       for (int g = 0; g < 3; ++g)
         x[g] = o[g] + (p[0] * fr[g] + p[1] * fr[3 + g]);
-      ok[sq] = (int8_t)s2s_face_pull_back_one(&f, 1.0, x, fr + 6, iterations, tol, round_off,
-                                              xi + 2 * sq, normal, &ratio);
+      if (q == 0 || K != 3) /* the area ratio of a P1 face does not depend on xi */
+        ok[sq] = (int8_t)s2s_face_pull_back_one(&f, 1.0, x, fr + 6, iterations, tol,
+                                                round_off, xi + 2 * sq, NULL, &ratio);
+      else if (!(ok[sq] = (int8_t)s2s_face_line_on(&f, x, fr + 6, iterations, tol, round_off,
+                                                    xi + 2 * sq, &t)))
+        xi[2 * sq] = xi[2 * sq + 1] = NAN;
       weights[sq] = det * W[q] * ratio;
     }
   }

@@ -98,7 +98,7 @@ void s2s_face_evaluate(const double *nodes, int K, const int32_t *rows, const do
 void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const double *origins,
                         const double *directions, int P, int iterations, double tol,
                         double round_off, double *xi, double *t, int8_t *ok);
-int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
+void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
                        const double *t_nodes, int Kt, const int32_t *rows_c,
                        const int32_t *rows_t, const double *xi, const double *weights, int S,
                        int Q, const double *mu_coef, int Mm, int nk, const int32_t *mu_index,
@@ -106,7 +106,7 @@ int s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation
                        const double *t_coef, int Mt, int nt, const int32_t *t_index,
                        int square, int iterations, double tol, double round_off,
                        double zero_below, double *b_c, double *b_t, double *g,
-                       double *coverage, int32_t *first, int8_t *ok);
+                       double *coverage, int8_t *ok);
 void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
                         const int32_t *rows, const double *x, const double *frames, int P,
                         int iterations, double tol, double round_off, double *xi,

@@ -49,6 +49,7 @@ __all__ = [
     "piece_points",
     "project_faces",
     "pull_back",
+    "runs",
     "segment_to_segment",
     "shift",
     "triangulate_polygons",
@@ -231,6 +232,12 @@ def monomial_values(coef: _Array, index: _Rows, xi: _Array, zero_below: float = 
     return out
 
 
+def runs(rows_c: _Rows, rows_t: _Rows) -> _Rows:
+    """The first group of each run of consecutive groups on the same pair of faces."""
+    same = (rows_c[1:] == rows_c[:-1]) & (rows_t[1:] == rows_t[:-1])
+    return np.flatnonzero(np.concatenate([[True], ~same])).astype(np.int32)
+
+
 def face_coupling(
     c_nodes: _Array,
     c_orientation: _Array,
@@ -301,8 +308,7 @@ def face_coupling(
         gaps.reshape(S, Q),
     )
     coverage = np.einsum("sqk,sq->sk", mu**2 if square else mu, weights)
-    same = (rows[0][1:] == rows[0][:-1]) & (rows[1][1:] == rows[1][:-1])
-    first = np.flatnonzero(np.concatenate([[True], ~same])).astype(np.int32)
+    first = runs(*rows)
     blocks = (np.add.reduceat(a, first, axis=0) for a in (b_c, b_t, gap, coverage))
     return (*blocks, first)
 

@@ -36,6 +36,7 @@ from dolfinx_contact_s2s.kernels.face_backend import (
     facet_coefficients,
     monomial_values,
     monomials,
+    runs,
     shift,
 )
 from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
@@ -58,6 +59,7 @@ __all__ = [
     "piece_points",
     "project_faces",
     "pull_back",
+    "runs",
     "segment_to_segment",
     "shift",
     "triangulate_polygons",
@@ -203,18 +205,19 @@ def face_coupling(
         arrays += [coef, index]
         args += [_ptr(ffi, coef), coef.shape[1], coef.shape[2], _ptr(ffi, index, "int32_t *")]
     nk, nc, nt = (a.shape[2] for a in arrays[::2])
-    b_c, b_t = np.empty((S, nk, nc * 3)), np.empty((S, nk, nt * 3))
-    g, coverage, ok = np.empty((S, nk)), np.empty((S, nk)), np.empty(S * Q, dtype=np.int8)
-    first = np.empty(S, dtype=np.int32)
-    n = lib.s2s_face_coupling(
+    first = runs(rc, rt)
+    B = first.size  # the blocks, allocated as they are written (no untouched pages)
+    b_c, b_t = np.empty((B, nk, nc * 3)), np.empty((B, nk, nt * 3))
+    g, coverage, ok = np.empty((B, nk)), np.empty((B, nk)), np.empty(S * Q, dtype=np.int8)
+    lib.s2s_face_coupling(
         _ptr(ffi, c), Kc, _ptr(ffi, orientation), _ptr(ffi, t), Kt,
         _ptr(ffi, rc, "int32_t *"), _ptr(ffi, rt, "int32_t *"), _ptr(ffi, xi),
         _ptr(ffi, weights), S, Q, *args, int(bool(square)), int(iterations), float(tol),
         float(ROUND_OFF), float(zero_below), _ptr(ffi, b_c), _ptr(ffi, b_t), _ptr(ffi, g),
-        _ptr(ffi, coverage), _ptr(ffi, first, "int32_t *"), _ptr(ffi, ok, "int8_t *"),
+        _ptr(ffi, coverage), _ptr(ffi, ok, "int8_t *"),
     )  # fmt: skip
     polygon.check_lines(np.arange(S * Q), ok.astype(bool), "target point", iterations)
-    return b_c[:n], b_t[:n], g[:n], coverage[:n], first[:n]
+    return b_c, b_t, g, coverage, first
 
 
 def pull_back(
