@@ -300,10 +300,9 @@ class PolygonSegmentation:
         triangles, owner = kernels.triangulate_polygons(overlaps, counts)
         pair = facing_pairs[owner]
         f, o = frame[pair], origin[pair]
-        centroid = o + np.einsum("sd,sdg->sg", triangles.mean(axis=1), f[:, :2])
-        xi, normals, _ = kernels.pull_back(C.coefficients, C.orientation, ic[pair], centroid, f)
-        x_c, _ = kernels.evaluate(C.coefficients, ic[pair], xi)
-        _, gap = kernels.intersect_lines(T.coefficients, it[pair], x_c, normals, name="target face")
+        gap = kernels.piece_gaps(
+            C.coefficients, C.orientation, T.coefficients, (ic[pair], it[pair]), triangles, o, f
+        )
         keep = np.abs(gap) <= radius
         return PolygonPieces(
             ic[pair][keep], it[pair][keep], triangles[keep], o[keep], f[keep], gap[keep]

@@ -426,22 +426,6 @@ static int s2s_face_pull_back_one(s2s_face *f, double sign, const double *x, con
   return ok;
 }
 
-void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
-                        const int32_t *rows, const double *x, const double *frames, int P,
-                        int iterations, double tol, double round_off, double *xi,
-                        double *normals, double *ratio, int8_t *ok)
-{
-  s2s_face f;
-  for (int p = 0; p < P; ++p)
-  {
-    if (p == 0 || rows[p] != rows[p - 1])
-      s2s_face_prepare(nodes + (int64_t)rows[p] * K * 3, K, &f);
-    ok[p] = (int8_t)s2s_face_pull_back_one(&f, orientation[rows[p]], x + 3 * p,
-                                           frames + 9 * p + 6, iterations, tol, round_off,
-                                           xi + 2 * p, normals + 3 * p, ratio + p);
-  }
-}
-
 /* A triangle rule (X, W; Q points) on each piece (segmentation.PolygonSegmentation.
  * points): the plane point of each rule point, pulled back to the contactor face along
  * the plane's normal; its weight, the rule's times twice the triangle's area times the
@@ -606,5 +590,38 @@ void s2s_face_project(const double *c_nodes, int Kc, const double *c_orientation
     s2s_plane_polygon(tc, mt, o, f, t_poly + 2 * mt * p);
     facing[p] = f[6] * nt[0] + f[7] * nt[1] + f[8] * nt[2] < 0.0;
     ok_c[p] = (int8_t)area_c, ok_t[p] = (int8_t)area_t;
+  }
+}
+
+/* The gap at each piece's centroid (segmentation.PolygonSegmentation.cut): the centroid
+ * of the plane triangle pulled back to the contactor face along the plane's normal, then
+ * the line along the contactor's outward normal there met with the target face: its
+ * parameter, (x_T - x_C) . n_C. A face is prepared once while the pieces repeat it. */
+void s2s_face_piece_gaps(const double *c_nodes, int Kc, const double *c_orientation,
+                         const double *t_nodes, int Kt, const int32_t *rows_c,
+                         const int32_t *rows_t, const double *triangles, const double *origin,
+                         const double *frame, int S, int iterations, double tol,
+                         double round_off, double *gap, int8_t *ok_c, int8_t *ok_t)
+{
+  s2s_face contactor, target;
+  for (int s = 0; s < S; ++s)
+  {
+    const double *tr = triangles + 6 * s, *o = origin + 3 * s, *fr = frame + 9 * s;
+    double m[2], x[3], xi[2], xc[3], normal[3], ratio, eta[2];
+    if (s == 0 || rows_c[s] != rows_c[s - 1])
+      s2s_face_prepare(c_nodes + (int64_t)rows_c[s] * Kc * 3, Kc, &contactor);
+    if (s == 0 || rows_t[s] != rows_t[s - 1])
+      s2s_face_prepare(t_nodes + (int64_t)rows_t[s] * Kt * 3, Kt, &target);
+    for (int d = 0; d < 2; ++d)
+      m[d] = (tr[d] + tr[2 + d] + tr[4 + d]) / 3.0;
+    for (int g = 0; g < 3; ++g)
+      x[g] = o[g] + (m[0] * fr[g] + m[1] * fr[3 + g]);
+    ok_c[s] = (int8_t)s2s_face_pull_back_one(&contactor, c_orientation[rows_c[s]], x, fr + 6,
+                                             iterations, tol, round_off, xi, normal, &ratio);
+    s2s_face_point(contactor.nodes, Kc, xi, xc, NULL);
+    ok_t[s] = (int8_t)s2s_face_line_on(&target, xc, normal, iterations, tol, round_off, eta,
+                                       gap + s);
+    if (!ok_t[s])
+      gap[s] = NAN;
   }
 }

@@ -107,10 +107,11 @@ void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientatio
                        int square, int iterations, double tol, double round_off,
                        double zero_below, double *b_c, double *b_t, double *g,
                        double *coverage, int8_t *ok);
-void s2s_face_pull_back(const double *nodes, int K, const double *orientation,
-                        const int32_t *rows, const double *x, const double *frames, int P,
-                        int iterations, double tol, double round_off, double *xi,
-                        double *normals, double *ratio, int8_t *ok);
+void s2s_face_piece_gaps(const double *c_nodes, int Kc, const double *c_orientation,
+                         const double *t_nodes, int Kt, const int32_t *rows_c,
+                         const int32_t *rows_t, const double *triangles, const double *origin,
+                         const double *frame, int S, int iterations, double tol,
+                         double round_off, double *gap, int8_t *ok_c, int8_t *ok_t);
 void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
                            const double *triangles, const double *origin, const double *frame,
                            int S, const double *X, const double *W, int Q, int iterations,

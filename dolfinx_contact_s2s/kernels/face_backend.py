@@ -46,9 +46,9 @@ __all__ = [
     "monomial_values",
     "monomials",
     "outward_normals",
+    "piece_gaps",
     "piece_points",
     "project_faces",
-    "pull_back",
     "runs",
     "segment_to_segment",
     "shift",
@@ -131,7 +131,7 @@ def intersect(
     return eta
 
 
-def pull_back(
+def _pull_back(
     nodes: _Array,
     orientation: _Array,
     rows: _Rows,
@@ -165,6 +165,46 @@ def pull_back(
     normals = orientation[rows, None] * area / jac[:, None]
     ratio = jac / np.abs(np.einsum("pg,pg->p", area, frames[:, 2]))
     return xi, normals, ratio
+
+
+def piece_gaps(
+    c_nodes: _Array,
+    c_orientation: _Array,
+    t_nodes: _Array,
+    rows: tuple[_Rows, _Rows],
+    triangles: _Array,
+    origin: _Array,
+    frame: _Array,
+    iterations: int = 16,
+    tol: float = NEWTON_TOL,
+) -> _Array:
+    r"""The gap :math:`(x_T - x_C) \cdot n_C` at the centroid of each plane triangle (Eq. 38).
+
+    The centroid is pulled back to the contactor face along its plane's normal, and the
+    line along the contactor's outward normal there is met with the target face.
+
+    Args:
+        c_nodes: Contactor face nodes ``(Fc, Kc, 3)``.
+        c_orientation: Their orientation signs ``(Fc,)``.
+        t_nodes: Target face nodes ``(Ft, Kt, 3)``.
+        rows: Contactor and target face of each triangle, ``(S,)`` each.
+        triangles: Vertices in plane coordinates ``(S, 3, 2)``.
+        origin: Origin of each triangle's plane ``(S, 3)``.
+        frame: Rows :math:`e_1, e_2, n` of each triangle's plane ``(S, 3, 3)``.
+        iterations: Newton iterations at most.
+        tol: Relative Newton stopping test.
+
+    Returns:
+        The gaps ``(S,)``.
+
+    Raises:
+        RuntimeError: Naming the faces that a line misses.
+    """
+    centroid = origin + np.einsum("sd,sdg->sg", triangles.mean(axis=1), frame[:, :2])
+    xi, normals, _ = _pull_back(c_nodes, c_orientation, rows[0], centroid, frame, iterations, tol)
+    x_c, _ = evaluate(c_nodes, rows[0], xi)
+    _, gap = polygon.intersect(t_nodes, rows[1], x_c, normals, iterations, tol, "target face")
+    return gap
 
 
 def piece_points(
@@ -205,7 +245,7 @@ def piece_points(
     S, Q = triangles.shape[0], W.size
     x = origin[:, None] + np.einsum("sqd,sdg->sqg", plane, frame[:, :2])
     r = np.repeat(rows, Q)
-    xi, _, ratio = pull_back(
+    xi, _, ratio = _pull_back(
         nodes, np.ones(nodes.shape[0]), r, x.reshape(-1, 3), np.repeat(frame, Q, axis=0),
         iterations, tol,
     )  # fmt: skip

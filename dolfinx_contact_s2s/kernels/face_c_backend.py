@@ -56,9 +56,9 @@ __all__ = [
     "monomial_values",
     "monomials",
     "outward_normals",
+    "piece_gaps",
     "piece_points",
     "project_faces",
-    "pull_back",
     "runs",
     "segment_to_segment",
     "shift",
@@ -220,32 +220,37 @@ def face_coupling(
     return b_c, b_t, g, coverage, first
 
 
-def pull_back(
-    nodes: _Array,
-    orientation: _Array,
-    rows: _Rows,
-    x: _Array,
-    frames: _Array,
+def piece_gaps(
+    c_nodes: _Array,
+    c_orientation: _Array,
+    t_nodes: _Array,
+    rows: tuple[_Rows, _Rows],
+    triangles: _Array,
+    origin: _Array,
+    frame: _Array,
     iterations: int = 16,
     tol: float = NEWTON_TOL,
-) -> tuple[_Array, _Array, _Array]:
-    """:func:`~.face_backend.pull_back` in one pass over the points (``_faces.c``)."""
+) -> _Array:
+    """:func:`~.face_backend.piece_gaps` in one pass over the pieces (``_faces.c``)."""
     ffi, lib = c_backend.compiled()
-    c, K = _nodes(nodes)
-    orientation = np.ascontiguousarray(orientation, dtype=np.float64)
-    rows = np.ascontiguousarray(rows, dtype=np.int32)
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    frames = np.ascontiguousarray(frames, dtype=np.float64)
-    P = rows.size
-    xi, normals, ratio = np.empty((P, 2)), np.empty((P, 3)), np.empty(P)
-    ok = np.empty(P, dtype=np.int8)
-    lib.s2s_face_pull_back(
-        _ptr(ffi, c), K, _ptr(ffi, orientation), _ptr(ffi, rows, "int32_t *"), _ptr(ffi, x),
-        _ptr(ffi, frames), P, int(iterations), float(tol), float(ROUND_OFF), _ptr(ffi, xi),
-        _ptr(ffi, normals), _ptr(ffi, ratio), _ptr(ffi, ok, "int8_t *"),
+    c, Kc = _nodes(c_nodes)
+    t, Kt = _nodes(t_nodes)
+    co = np.ascontiguousarray(c_orientation, dtype=np.float64)
+    rc, rt = (np.ascontiguousarray(r, dtype=np.int32) for r in rows)
+    triangles, origin, frame = (
+        np.ascontiguousarray(a, dtype=np.float64) for a in (triangles, origin, frame)
+    )
+    S = rc.size
+    gap, ok_c, ok_t = np.empty(S), np.empty(S, dtype=np.int8), np.empty(S, dtype=np.int8)
+    lib.s2s_face_piece_gaps(
+        _ptr(ffi, c), Kc, _ptr(ffi, co), _ptr(ffi, t), Kt, _ptr(ffi, rc, "int32_t *"),
+        _ptr(ffi, rt, "int32_t *"), _ptr(ffi, triangles), _ptr(ffi, origin), _ptr(ffi, frame),
+        S, int(iterations), float(tol), float(ROUND_OFF), _ptr(ffi, gap),
+        _ptr(ffi, ok_c, "int8_t *"), _ptr(ffi, ok_t, "int8_t *"),
     )  # fmt: skip
-    polygon.check_lines(rows, ok.astype(bool), "contactor face", iterations)
-    return xi, normals, ratio
+    polygon.check_lines(rc, ok_c.astype(bool), "contactor face", iterations)
+    polygon.check_lines(rt, ok_t.astype(bool), "target face", iterations)
+    return gap
 
 
 def piece_points(
