@@ -110,8 +110,9 @@ def _global_values(f: dolfinx.fem.Function) -> npt.NDArray[np.floating]:
 
 
 def _facet_rule(mesh: dolfinx.mesh.Mesh, degree: int) -> tuple:
-    """Gauss points and weights on [0, 1] exact to ``degree``, and the coordinate element."""
-    s, w = basix.make_quadrature(basix.CellType.interval, degree)
+    """Gauss points and weights on the reference cell exact to ``degree``, and the cmap."""
+    cell = getattr(basix.CellType, mesh.topology.cell_name())
+    s, w = basix.make_quadrature(cell, degree)
     cmap = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element()).basix_element
     return s, w, cmap
 
@@ -121,19 +122,23 @@ def _pressure_integral(
     lam: dolfinx.fem.Function,
     weight: Callable[[npt.NDArray[np.floating]], npt.NDArray[np.floating]],
 ) -> float:
-    r""":math:`\int \lambda \, w \, d\Gamma` over the owned cells of the multiplier mesh."""
+    r""":math:`\int \lambda \, w \, d\Gamma` over the owned cells of the multiplier mesh.
+
+    Curves (2D models) and faces (3D): the measure is :math:`|dx/ds|` or
+    :math:`|\partial_1 x \times \partial_2 x|` of the cells' own geometry.
+    """
     Q = lam.function_space
     mesh = Q.mesh
-    num = mesh.topology.index_map(mesh.topology.dim).size_local
-    if mesh.topology.dim != 1:
-        raise NotImplementedError("the pressure integral needs a multiplier on a curve (2D)")
+    tdim = mesh.topology.dim
+    num = mesh.topology.index_map(tdim).size_local
     element = Q.ufl_element().basix_element
     s, w, cmap = _facet_rule(mesh, 2 * (element.degree + _cmap_degree(mesh)) + 2)
-    psi = cmap.tabulate(1, s)[:, :, :, 0]  # (2, points, nodes)
+    psi = cmap.tabulate(1, s)[:, :, :, 0]  # (1 + tdim, points, nodes)
     phi = element.tabulate(0, s)[0, :, :, 0]
     nodes = mesh.geometry.x[geometry_dofmap(mesh)[:num]]  # (cells, nodes, 3)
     xq = np.einsum("qn,cnd->cqd", psi[0], nodes)
-    jac = np.linalg.norm(np.einsum("qn,cnd->cqd", psi[1], nodes), axis=2)
+    tangents = [np.einsum("qn,cnd->cqd", psi[1 + k], nodes) for k in range(tdim)]
+    jac = np.linalg.norm(tangents[0] if tdim == 1 else np.cross(*tangents), axis=2)
     values = lam.x.array[Q.dofmap.list[:num]].real
     lq = values @ phi.T
     wq = weight(xq.reshape(-1, 3)[:, : mesh.geometry.dim]).reshape(lq.shape)
