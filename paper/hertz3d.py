@@ -300,8 +300,9 @@ def build(
         for component, tag in [*held, (2, TAGS["lower_far"])]:
             dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), 2, facet_tags.find(tag))
             bcs.append(dolfinx.fem.dirichletbc(0.0, dofs, V.sub(component)))
-        sphere, other = contact_surface(V, facet_tags, TAGS["upper_sphere"]), contact_surface(
-            V, facet_tags, TAGS["lower_top"]
+        sphere, other = (
+            contact_surface(V, facet_tags, TAGS["upper_sphere"]),
+            contact_surface(V, facet_tags, TAGS["lower_top"]),
         )
         # Two spheres: sphere 1 (the lower one) is the contactor, as in the axisymmetric scene.
         surfaces = (other, sphere) if not math.isinf(scene.R2) else (sphere, other)

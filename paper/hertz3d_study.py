@@ -51,7 +51,7 @@ __all__ = ["axisymmetric", "nodes", "read", "run"]
 
 
 def nodes(problem: UnilateralContactProblem) -> dict[str, np.ndarray]:
-    """Coordinates, :math:`\\lambda` and active flags of every multiplier node, all ranks.
+    r"""Coordinates, :math:`\lambda` and active flags of every multiplier node, all ranks.
 
     In global dof order; also ``"cells"``: the global dofs of every cell (collective).
     """
@@ -164,9 +164,9 @@ def run(
 
     ``reach`` (the fine zone's radius) defaults to a tenth of the smaller radius; the
     geometry is of degree ``degree``. Returns a record: the exact and measured
-    :math:`a`, :math:`p_0`, the errors, the force balance
-    (:math:`|F_z|` against the load as assembled, :math:`F/4` on the discrete flat face), unknowns, active-set solves and seconds (mesh, build
-    and solve, rank 0's).
+    :math:`a`, :math:`p_0`, the errors, the force balance (:math:`|F_z|` against the
+    load as assembled, :math:`F/4` on the discrete flat face), unknowns, active-set
+    solves and seconds (mesh, build and solve, rank 0's).
     """
     scene = hertz3d.SCENES[name]
     R = min(scene.R1, scene.R2)
@@ -226,7 +226,11 @@ def _axi_block(comm: MPI.Comm, W: float, D: float, h: float, reach: float, far: 
             surface = geo.addPlaneSurface([geo.addCurveLoop(lines)])
             geo.synchronize()
             gmsh.model.addPhysicalGroup(2, [surface], 1)
-            for tag, curve in ((axi.TARGET, lines[0]), (axi.LOADED, lines[2]), (axi.AXIS, lines[3])):
+            for tag, curve in (
+                (axi.TARGET, lines[0]),
+                (axi.LOADED, lines[2]),
+                (axi.AXIS, lines[3]),
+            ):
                 gmsh.model.addPhysicalGroup(1, [curve], tag)
             size_field(gmsh, p[0], h, far, reach)
             gmsh.model.mesh.generate(2)
