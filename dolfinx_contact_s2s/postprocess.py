@@ -22,8 +22,9 @@ coincident nodes merged.
   estimate inside it.
 
 The multiplier is a pressure for every discretization except node-to-segment with unit
-weights (Eq. 39), where it is a nodal force. Surfaces must be curves (2D models);
-the arclength runs along the chords of the facets.
+weights (Eq. 39), where it is a nodal force. :func:`contact_force` takes curves and
+faces (3D); profiles and zones need curves (2D models), the arclength running along the
+chords of the facets.
 """
 
 from __future__ import annotations
