@@ -62,7 +62,8 @@ def nodes(problem: UnilateralContactProblem) -> dict[str, np.ndarray]:
     start = imap.local_range[0]
     x = Q.tabulate_dof_coordinates()[:n]
     num = Q.mesh.topology.index_map(Q.mesh.topology.dim).size_local
-    cells = imap.local_to_global(Q.dofmap.list[:num].reshape(-1)).reshape(num, -1)
+    local = Q.dofmap.list[:num]
+    cells = imap.local_to_global(local.reshape(-1)).reshape(local.shape)
     parts = Q.mesh.comm.allgather((start, x, lam.x.array[:n].real, act.x.array[:n].real, cells))
     out = {
         "x": np.zeros((imap.size_global, 3)),
