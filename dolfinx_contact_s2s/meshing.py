@@ -173,16 +173,19 @@ def curved_mesh(
     """The mesh with a quadratic geometry, its midside nodes on the true geometry (collective).
 
     The nodes of the new geometry are the dofs of a quadratic Lagrange space on ``mesh``;
-    the midside nodes of the facets tagged ``tag`` go to ``project(tag, x)``, the others
-    stay on the straight edges. Every cell stays on its process, and the tags are
-    carried over (a facet by its cell and its local index). Use it on a refined, snapped
-    mesh (:func:`snap_boundary`) before making quadratic spaces on a curved contact
-    surface; :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` does so with
+    the midside nodes of the facets tagged ``tag`` (edges of triangles, faces of
+    tetrahedra) go to ``project(tag, x)``, the others stay on the straight edges. Every
+    cell stays on its process, and the tags are carried over (a facet by its cell and
+    its local index). Use it on a refined, snapped mesh (:func:`snap_boundary`) before
+    making quadratic spaces on a curved contact surface;
+    :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` does so with
     ``geometry_degree=2``.
 
     Args:
-        mesh: A mesh of triangles with a linear coordinate element (what
-            :func:`dolfinx.mesh.refine` makes). The new mesh has no ghost cells.
+        mesh: A mesh of triangles or tetrahedra with a linear coordinate element (what
+            :func:`dolfinx.mesh.refine` makes). The new mesh has no ghost cells; its
+            cells are the 6- or 10-node cells of DOLFINx's (Basix's) node order,
+            vertices then edges, as the dofs of the quadratic space.
         cell_tags: Its cell tags.
         facet_tags: Its facet tags.
         project: The :data:`Projection` of the facet tags (``None``: straight edges).
@@ -197,9 +200,10 @@ def curved_mesh(
     comm, tdim, gdim = mesh.comm, mesh.topology.dim, mesh.geometry.dim
     fdim, num_cells = tdim - 1, mesh.topology.index_map(mesh.topology.dim).size_local
     degree = blocked_sub_element(mesh.ufl_domain().ufl_coordinate_element()).degree
-    if mesh.topology.cell_name() != "triangle" or degree != 1:
+    cell = mesh.topology.cell_name()
+    if cell not in ("triangle", "tetrahedron") or degree != 1:
         raise NotImplementedError(
-            f"curved_mesh lifts triangle meshes of linear geometry, not a "
+            f"curved_mesh lifts triangle or tetrahedron meshes of linear geometry, not a "
             f"{mesh.topology.cell_name()} mesh of geometry degree {degree}"
         )
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2, (gdim,)))
@@ -230,7 +234,7 @@ def curved_mesh(
 
     dofs = V.dofmap.index_map
     cells = dofs.local_to_global(V.dofmap.list[:num_cells].reshape(-1)).reshape(num_cells, -1)
-    element = basix.ufl.element("Lagrange", "triangle", 2, shape=(gdim,))
+    element = basix.ufl.element("Lagrange", cell, 2, shape=(gdim,))
     new, parent = create_mesh_in_place(
         comm, cells, np.ascontiguousarray(x[: dofs.size_local, :gdim]), ufl.Mesh(element)
     )

@@ -14,6 +14,7 @@ import math
 
 from mpi4py import MPI
 
+import basix
 import dolfinx
 import numpy as np
 import pytest
@@ -26,7 +27,7 @@ from dolfinx_contact_s2s import (
     model_to_mesh,
     snap_boundary,
 )
-from dolfinx_contact_s2s.compat import refine_marked
+from dolfinx_contact_s2s.compat import geometry_dofmap, refine_marked
 
 CIRCLE = 7
 
@@ -148,7 +149,60 @@ def test_curved_mesh_of_a_mesh_with_ghosts_and_bad_input():
     dx = ufl.Measure("dx", domain=square, subdomain_data=cell_tags)
     assert _integral(square, ds(3)) == pytest.approx(1.0, rel=1e-14)
     assert _integral(square, dx(1)) == pytest.approx(1.0, rel=1e-14)
-    with pytest.raises(NotImplementedError, match="triangle"):
+    with pytest.raises(NotImplementedError, match="triangle or tetrahedron"):
         curved_mesh(quads, *tags[0])
     with pytest.raises(ValueError, match="shape"):
         curved_mesh(mesh, *tags[1], lambda tag, x: x[:, :2])
+
+
+def _sphere(tag, x):
+    return x / np.linalg.norm(x, axis=1)[:, None] if tag == CIRCLE else None
+
+
+def test_curved_mesh_of_tetrahedra_puts_its_faces_on_the_sphere():
+    """A refined, snapped ball lifted to 10-node tetrahedra: node order and volume.
+
+    Every edge node of a cell sits at the midpoint of the edge that Basix's reference
+    tetrahedron names for it (DOLFINx's node order), or on the sphere above it for an
+    edge of the boundary; the volume is much closer to 4 pi / 3 than the chords'.
+    """
+    with gmsh_session() as gmsh:
+        gmsh.model.add("ball")
+        if MPI.COMM_WORLD.rank == 0:
+            ball = gmsh.model.occ.addSphere(0, 0, 0, 1)
+            gmsh.model.occ.synchronize()
+            gmsh.model.addPhysicalGroup(3, [ball], 1)
+            faces = [f for _, f in gmsh.model.getBoundary([(3, ball)], oriented=False)]
+            gmsh.model.addPhysicalGroup(2, faces, CIRCLE)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", 0.6)
+            gmsh.model.mesh.generate(3)
+        mesh, ctags, ftags = model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=3)
+    mesh.topology.create_entities(1)
+    edges = np.arange(mesh.topology.index_map(1).size_local, dtype=np.int32)
+    mesh, (ctags, ftags) = refine_marked(mesh, edges, (ctags, ftags))
+    snap_boundary(mesh, ftags, _sphere)
+    curved, new_ctags, new_ftags = curved_mesh(mesh, ctags, ftags, _sphere)
+    assert curved.topology.cell_name() == "tetrahedron"
+    nodes = curved.geometry.x[geometry_dofmap(curved)]
+    assert nodes.shape[1] == 10
+    ends = np.array(basix.topology(basix.CellType.tetrahedron)[1])
+    mid = 0.5 * (nodes[:, ends[:, 0]] + nodes[:, ends[:, 1]])
+    edge_nodes = nodes[:, 4:]
+    on_sphere = np.isclose(np.linalg.norm(edge_nodes, axis=2), 1.0, atol=1e-12)
+    straight = np.linalg.norm(edge_nodes - mid, axis=2) < 1e-13
+    assert np.all(straight | on_sphere)
+    lifted = on_sphere & ~straight
+    assert MPI.COMM_WORLD.allreduce(int(lifted.sum())) > 0
+    # A lifted node lies right above its chord's midpoint (the radial projection).
+    above = mid[lifted] / np.linalg.norm(mid[lifted], axis=1)[:, None]
+    assert np.allclose(edge_nodes[lifted], above, atol=1e-12)
+    volume = {m: _integral(m, ufl.dx(domain=m)) for m in (mesh, curved)}
+    exact = 4 * math.pi / 3
+    assert abs(volume[curved] - exact) < 0.05 * abs(volume[mesh] - exact)
+    ds = ufl.Measure("ds", domain=curved, subdomain_data=new_ftags)
+    assert abs(_integral(curved, ds(CIRCLE)) - 4 * math.pi) < 0.05 * abs(
+        _integral(mesh, ufl.Measure("ds", domain=mesh, subdomain_data=ftags)(CIRCLE)) - 4 * math.pi
+    )
+    for old, new in ((ctags, new_ctags), (ftags, new_ftags)):
+        count = [mesh.comm.allreduce(t.indices.size) for t in (old, new)]
+        assert count[0] == count[1] > 0
