@@ -19,6 +19,7 @@ import re as _re
 
 from dolfinx_contact_s2s import _moved
 from dolfinx_contact_s2s.axisymmetry import check_axis_surface, check_axisymmetric_mesh
+from dolfinx_contact_s2s.contact_front import ContactFront, contact_front
 from dolfinx_contact_s2s.elasticity import PLANES, Material, epsilon, stress_function
 from dolfinx_contact_s2s.meshing import (
     Projection,
@@ -77,6 +78,7 @@ __all__ = [
     "AnalyticObstacle",
     "ContactEdge",
     "ContactForce",
+    "ContactFront",
     "ContactPair",
     "ContactSurface",
     "ContactZone",
@@ -90,6 +92,7 @@ __all__ = [
     "check_axisymmetric_mesh",
     "circle_obstacle",
     "contact_force",
+    "contact_front",
     "contact_pair",
     "contact_pairs",
     "contact_surface",

@@ -1,0 +1,193 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Where a 3D contact zone ends: the zero level set of the multiplier on the contactor's faces.
+
+The discrete contact conditions (Eq. 1 on the nodal weighted gaps of Eq. 17) end the
+contact zone of a 3D model between multiplier nodes: on every edge of a multiplier face
+with an active end and an inactive end. :func:`contact_front` finds, on each such edge,
+where the linear interpolant of :math:`\lambda` between its two ends crosses zero (on
+the chord between the nodes: the zero level set of the P1 multiplier), and measures
+those crossings from an axis the user gives (the normal through the first touching
+point of an axisymmetric contact). It needs no law of the pressure (no Hertz): the
+estimate of the contact radius is the mean radius of the crossings, its bracket the
+mean radii of the edges' active and inactive ends (each crossing lies between them;
+the 3D form of :class:`~dolfinx_contact_s2s.postprocess.ContactEdge`'s bracket), and
+the faces that carry the crossings give the band where the front lies (their radial
+spread, and their nodes: where to refine,
+:func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone`).
+
+Collective; the same numbers on every process, whatever the partition.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import basix
+import dolfinx
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["ContactFront", "contact_front"]
+
+
+@dataclass(frozen=True)
+class ContactFront:
+    r"""The edge of the contact zone of a 3D pair, measured from an axis.
+
+    Attributes:
+        points: The zero crossings of :math:`\lambda` ``(n, 3)``, one per edge of a
+            multiplier face from an active to an inactive node (a crossing at a node
+            shared by several such edges counted once).
+        radii: Their distances from the axis ``(n,)``.
+        inside: Distance from the axis of each crossing's active node ``(n,)``.
+        outside: Distance from the axis of each crossing's inactive node ``(n,)``.
+        edge_lengths: Length of each crossing's edge ``(n,)``.
+        face_radii: Smallest and largest distance from the axis of the nodes of the faces
+            that carry the crossings (``nan`` without crossings).
+    """
+
+    points: npt.NDArray[np.floating]
+    radii: npt.NDArray[np.floating]
+    inside: npt.NDArray[np.floating]
+    outside: npt.NDArray[np.floating]
+    edge_lengths: npt.NDArray[np.floating]
+    face_radii: tuple[float, float]
+
+    @property
+    def radius(self) -> float:
+        """The estimated contact radius: the mean radius of the crossings."""
+        return float(np.mean(self.radii)) if self.radii.size else math.nan
+
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """The bracket of :attr:`radius`: the mean radii of the inactive and active ends.
+
+        Each crossing lies on its edge, between its active and its inactive node; the
+        mean radius of the discrete front lies between their means.
+        """
+        if not self.radii.size:
+            return (math.nan, math.nan)
+        lo, hi = float(np.mean(self.inside)), float(np.mean(self.outside))
+        return (min(lo, hi), max(lo, hi))
+
+    @property
+    def bracket(self) -> float:
+        """Width of :attr:`bounds` (the error bar of :attr:`radius`)."""
+        lo, hi = self.bounds
+        return hi - lo
+
+    @property
+    def spread(self) -> float:
+        """Radial spread of the faces that carry the crossings (the band of the front)."""
+        return self.face_radii[1] - self.face_radii[0]
+
+
+def _gather(
+    multiplier: dolfinx.fem.Function, active: dolfinx.fem.Function | None
+) -> tuple[npt.NDArray, npt.NDArray, npt.NDArray, npt.NDArray]:
+    """Coordinates, values, active flags (global dof order) and vertex dofs of every face."""
+    Q = multiplier.function_space
+    mesh = Q.mesh
+    imap = Q.dofmap.index_map
+    n = imap.size_local
+    x = Q.tabulate_dof_coordinates()[:n]
+    lam = multiplier.x.array[:n].real
+    on = (lam > 0.0) if active is None else (active.x.array[:n].real > 0.5)
+    num = mesh.topology.index_map(mesh.topology.dim).size_local
+    cell = mesh.topology.cell_name()
+    vertices = len(basix.topology(basix.CellType[cell])[0])
+    local = Q.dofmap.list[:num, :vertices]
+    cells = imap.local_to_global(local.reshape(-1)).reshape(-1, vertices)
+    parts = mesh.comm.allgather((imap.local_range[0], x, lam, on, cells))
+    size = imap.size_global
+    X, L, A = np.zeros((size, 3)), np.zeros(size), np.zeros(size, dtype=bool)
+    for start, xx, ll, aa, _ in parts:
+        X[start : start + ll.size], L[start : start + ll.size] = xx, ll
+        A[start : start + ll.size] = aa
+    faces = np.concatenate([p[4] for p in parts]).astype(np.int64)
+    return X, L, A, faces
+
+
+def contact_front(
+    multiplier: dolfinx.fem.Function,
+    active: dolfinx.fem.Function | None = None,
+    *,
+    centre: npt.ArrayLike,
+    axis: npt.ArrayLike,
+) -> ContactFront:
+    r"""The zero level set of the multiplier on the contactor's faces (collective).
+
+    On every edge of a multiplier face (its vertices: the P1 interpolant, or the vertex
+    values of a higher degree) whose ends are an active node :math:`i` and an inactive
+    node :math:`o`, the crossing is at :math:`t = \lambda_i / (\lambda_i - \lambda_o)`
+    along the chord from :math:`i` to :math:`o` (at :math:`o` where
+    :math:`\lambda_o = 0`, the active-set solution's value; clipped to the edge). The
+    distances are measured from the line through ``centre`` along ``axis``.
+
+    Args:
+        multiplier: The multiplier of a pair of a 3D model, ``problem.multipliers[j]``.
+        active: Its active set, ``problem.active[j]`` (``None``: :math:`\lambda > 0`).
+        centre: A point of the axis (e.g. the first touching point).
+        axis: Direction of the axis (e.g. the contact normal there); need not be unit.
+
+    Returns:
+        The front; the same on every process.
+
+    Raises:
+        ValueError: On every process, for a multiplier not on faces in 3D, a non-finite
+            centre, or an axis of zero length.
+    """
+    Q = multiplier.function_space
+    mesh = Q.mesh
+    if mesh.geometry.dim != 3 or mesh.topology.dim != 2:
+        raise ValueError(
+            f"contact_front reads a multiplier on the faces of a 3D model, not on a "
+            f"{mesh.topology.dim}D mesh in {mesh.geometry.dim}D (2D: contact_zones)"
+        )
+    c = np.asarray(centre, dtype=np.float64).reshape(-1)
+    n = np.asarray(axis, dtype=np.float64).reshape(-1)
+    if c.size != 3 or n.size != 3 or not (np.all(np.isfinite(c)) and np.all(np.isfinite(n))):
+        raise ValueError(f"centre and axis must be 3 finite numbers each, not {centre}, {axis}")
+    if not np.linalg.norm(n) > 0.0:
+        raise ValueError("the axis has zero length")
+    n = n / np.linalg.norm(n)
+
+    X, lam, on, faces = _gather(multiplier, active)
+
+    def radius(p: npt.NDArray) -> npt.NDArray:
+        d = p - c
+        return np.linalg.norm(d - np.outer(d @ n, n), axis=1)
+
+    ref = basix.topology(basix.CellType[mesh.topology.cell_name()])[1]
+    edges = np.concatenate([faces[:, list(e)] for e in ref])
+    owner = np.tile(np.arange(faces.shape[0]), len(ref))
+    mixed = on[edges[:, 0]] != on[edges[:, 1]]
+    edges, owner = edges[mixed], owner[mixed]
+    # Each edge from its active node i to its inactive node o, once.
+    flip = ~on[edges[:, 0]]
+    edges[flip] = edges[flip][:, ::-1]
+    edges = np.unique(edges, axis=0)
+    carriers = np.unique(owner)
+    i, o = edges[:, 0], edges[:, 1]
+    li, lo = np.maximum(lam[i], 0.0), np.minimum(lam[o], 0.0)
+    t = np.clip(np.where(li - lo > 0.0, li / np.maximum(li - lo, 1e-300), 0.5), 0.0, 1.0)
+    # A crossing at an inactive node (t = 1) is that node, whatever the edge: once.
+    key = np.where(t >= 1.0, o, X.shape[0] + np.arange(edges.shape[0]))
+    _, once = np.unique(key, return_index=True)
+    i, o, t = i[once], o[once], t[once]
+    points = X[i] + t[:, None] * (X[o] - X[i])
+    if carriers.size:
+        r = radius(X[faces[carriers].reshape(-1)])
+        face_radii = (float(r.min()), float(r.max()))
+    else:
+        face_radii = (math.nan, math.nan)
+    return ContactFront(
+        points,
+        radius(points),
+        radius(X[i]),
+        radius(X[o]),
+        np.linalg.norm(X[o] - X[i], axis=1),
+        face_radii,
+    )

@@ -1,0 +1,108 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The zero level set of a multiplier on faces (contact_front) against closed forms.
+
+A P1 field on the top face :math:`z = 1` of a tetrahedral unit cube (a submesh, as a
+pair's multiplier lives on the contactor's faces):
+
+- a linear field :math:`\lambda = c - x` is its own interpolant: every crossing lies at
+  :math:`x = c` exactly, whose distance from the axis :math:`y`-direction through
+  :math:`(0, 0, 1)` is :math:`c` (:math:`c` between the nodes);
+- Hertz's :math:`p_0 \sqrt{\max(0, 1 - r^2/a^2)}`: every active node lies inside
+  :math:`r = a` and every inactive one outside, so the bracket holds :math:`a`;
+- :math:`1 - r^2/a^2` (negative outside): the crossings of the interpolant lie within
+  :math:`L^2/(4a)` of :math:`r = a` (the interpolation error of a quadratic,
+  :math:`L^2 \max|f''|/8` with :math:`|f''| \le 2/a^2`, over the slope
+  :math:`|\nabla f| \ge 1/a` near :math:`r = a`, for edges of length :math:`L`).
+"""
+
+from mpi4py import MPI
+
+import dolfinx
+import numpy as np
+import pytest
+
+from dolfinx_contact_s2s import contact_front
+
+N = 16
+
+
+def _face_space():
+    cube = dolfinx.mesh.create_unit_cube(MPI.COMM_WORLD, N, N, 4)
+    cube.topology.create_connectivity(2, 3)
+    top = dolfinx.mesh.locate_entities_boundary(cube, 2, lambda x: np.isclose(x[2], 1.0))
+    face = dolfinx.mesh.create_submesh(cube, 2, top)[0]
+    return dolfinx.fem.functionspace(face, ("Lagrange", 1))
+
+
+def _field(Q, f):
+    lam = dolfinx.fem.Function(Q)
+    lam.interpolate(f)
+    return lam
+
+
+def test_linear_field_crossings_are_exact():
+    """lambda = c - x: crossings at x = c, the radius c, bracket one edge around it."""
+    Q = _face_space()
+    c = 0.37
+    front = contact_front(_field(Q, lambda x: c - x[0]), centre=(0, 0, 1), axis=(0, 2.0, 0))
+    assert front.points.shape[0] > N
+    assert np.allclose(front.points[:, 0], c, atol=1e-13)
+    assert np.allclose(front.points[:, 2], 1.0, atol=1e-13)
+    assert front.radius == pytest.approx(c, abs=1e-13)
+    lo, hi = front.bounds
+    assert lo < c < hi and front.bracket <= 1.0 / N + 1e-12
+    assert front.face_radii[0] < c < front.face_radii[1]
+    assert front.spread <= 2.0 / N + 1e-12
+    # The same front from the active flags of a Function.
+    flags = _field(Q, lambda x: (x[0] < c).astype(float))
+    again = contact_front(_field(Q, lambda x: c - x[0]), flags, centre=(0, 0, 1), axis=(0, 1, 0))
+    assert np.allclose(np.sort(again.radii), np.sort(front.radii), atol=1e-13)
+
+
+def test_hertz_pressure_bracket_holds_the_radius():
+    """p0 sqrt(1 - r^2/a^2)_+: the crossings at the first inactive nodes, a inside the bracket."""
+    Q = _face_space()
+    a, p0 = 0.3, 2.5
+
+    def hertz(x):
+        r2 = (x[0] - 0.5) ** 2 + (x[1] - 0.5) ** 2
+        return p0 * np.sqrt(np.clip(1 - r2 / a**2, 0, None))
+
+    front = contact_front(_field(Q, hertz), centre=(0.5, 0.5, 1), axis=(0, 0, 1))
+    assert np.all(front.inside < a) and np.all(front.outside > a)
+    assert np.allclose(front.radii, front.outside)  # lambda_o = 0: at the inactive node
+    lo, hi = front.bounds
+    assert lo < a < hi and hi - lo <= np.sqrt(2) / N
+    assert lo <= front.radius <= hi
+
+
+def test_quadratic_field_crossings_near_the_circle():
+    """1 - r^2/a^2: every crossing within L^2/(4a) of r = a."""
+    Q = _face_space()
+    a = 0.3
+    front = contact_front(
+        _field(Q, lambda x: 1 - ((x[0] - 0.5) ** 2 + (x[1] - 0.5) ** 2) / a**2),
+        centre=(0.5, 0.5, 1),
+        axis=(0, 0, -1),
+    )
+    L = front.edge_lengths.max()
+    assert L == pytest.approx(np.sqrt(2) / N)
+    assert np.max(np.abs(front.radii - a)) <= L**2 / (4 * a)
+    assert front.radius == pytest.approx(a, abs=L**2 / (4 * a))
+    # A quarter of the circle's crossings at least: every x- and y-grid line meets it.
+    assert front.points.shape[0] >= 4 * int(2 * a * N)
+
+
+def test_bad_input():
+    """A 2D multiplier, a zero axis, a bad centre: ValueError on every rank."""
+    Q = _face_space()
+    lam = _field(Q, lambda x: 1 - x[0])
+    with pytest.raises(ValueError, match="zero length"):
+        contact_front(lam, centre=(0, 0, 0), axis=(0, 0, 0))
+    with pytest.raises(ValueError, match="3 finite"):
+        contact_front(lam, centre=(0, np.nan, 0), axis=(0, 0, 1))
+    square = dolfinx.mesh.create_unit_square(MPI.COMM_WORLD, 2, 2)
+    flat = dolfinx.fem.Function(dolfinx.fem.functionspace(square, ("Lagrange", 1)))
+    with pytest.raises(ValueError, match="faces of a 3D model"):
+        contact_front(flat, centre=(0, 0, 0), axis=(0, 0, 1))
