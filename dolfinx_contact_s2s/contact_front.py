@@ -73,6 +73,16 @@ class ContactFront:
         return (min(lo, hi), max(lo, hi))
 
     @property
+    def middle(self) -> float:
+        r"""The middle of :attr:`bounds`: an estimate off by at most half the bracket.
+
+        Where :math:`\lambda = 0` at the inactive nodes (the active-set solution), every
+        crossing is an inactive node and :attr:`radius` is the bracket's upper end.
+        """
+        lo, hi = self.bounds
+        return 0.5 * (lo + hi)
+
+    @property
     def bracket(self) -> float:
         """Width of :attr:`bounds` (the error bar of :attr:`radius`)."""
         lo, hi = self.bounds

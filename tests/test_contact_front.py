@@ -74,7 +74,8 @@ def test_hertz_pressure_bracket_holds_the_radius():
     assert np.allclose(front.radii, front.outside)  # lambda_o = 0: at the inactive node
     lo, hi = front.bounds
     assert lo < a < hi and hi - lo <= np.sqrt(2) / N
-    assert lo <= front.radius <= hi
+    assert lo <= front.radius <= hi and front.radius == pytest.approx(hi)
+    assert abs(front.middle - a) <= 0.5 * front.bracket
 
 
 def test_quadratic_field_crossings_near_the_circle():

@@ -15,6 +15,12 @@ callable, and solves again from the previous contact zones (a new multiplier nod
 active if it lies between the previous estimates of a zone's edges), until every bracket
 is below the tolerance.
 
+In 3D the edge is a closed curve on the contactor's faces: its bracket is that of the
+mean radius of the zero crossings of :math:`\lambda` around an axis the user gives
+(:func:`~dolfinx_contact_s2s.contact_front.contact_front`); the cells near every
+crossing are refined, and a new multiplier node starts active if it lies within the
+previous estimate of the radius.
+
 This module needs petsc4py and must be imported explicitly.
 """
 
@@ -31,6 +37,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.compat import blocked_sub_element, refine_marked
+from dolfinx_contact_s2s.contact_front import ContactFront, contact_front
 from dolfinx_contact_s2s.meshing import Projection, curved_mesh, snap_boundary
 from dolfinx_contact_s2s.postprocess import (
     ContactZone,
@@ -60,10 +67,11 @@ class AdaptiveStep:
         bracket: Widest bracket of all edges (length).
         relative: Widest bracket relative to its reference length (the zone's length,
             or the ``length`` given).
-        zones: The contact zones of every pair.
+        zones: The contact zones of every pair (2D models; empty in 3D).
         seconds: Wall time of the step (build, solve and post-processing; rank 0's).
         solves: Linear solves of the active-set iteration of the step.
         restarted: Whether the step started from the previous step's contact zones.
+        fronts: The contact front of every pair (3D models; empty in 2D).
     """
 
     unknowns: int
@@ -73,6 +81,7 @@ class AdaptiveStep:
     seconds: float
     solves: int = 0
     restarted: bool = False
+    fronts: list[ContactFront] = field(default_factory=list)
 
     @property
     def lengths(self) -> list[list[float]]:
@@ -220,6 +229,30 @@ def _pressure_balls(
     return worst, balls
 
 
+def _fronts(
+    problem: UnilateralContactProblem, axis: tuple[npt.ArrayLike, npt.ArrayLike]
+) -> list[ContactFront]:
+    return [
+        contact_front(lam, act, centre=axis[0], axis=axis[1])
+        for lam, act in zip(problem.multipliers, problem.active, strict=True)
+    ]
+
+
+def _inside_front(
+    front: ContactFront, axis: tuple[npt.ArrayLike, npt.ArrayLike]
+) -> Callable[[npt.NDArray[np.floating]], npt.NDArray[np.bool_]]:
+    """Marker of the points within the front's estimated radius of the axis (3D restart)."""
+    c = np.asarray(axis[0], dtype=np.float64).reshape(3)
+    n = np.asarray(axis[1], dtype=np.float64).reshape(3)
+    n = n / np.linalg.norm(n)
+
+    def marker(x: npt.NDArray[np.floating]) -> npt.NDArray[np.bool_]:
+        d = np.asarray(x).T - c
+        return np.linalg.norm(d - np.outer(d @ n, n), axis=1) <= front.radius
+
+    return marker
+
+
 def _mark(mesh: dolfinx.mesh.Mesh, balls: npt.NDArray[np.floating]) -> npt.NDArray[np.int32]:
     """Local edges of the cells whose midpoint lies in a ball ``(centre..., radius)``."""
     tdim, gdim = mesh.topology.dim, mesh.geometry.dim
@@ -250,6 +283,7 @@ def refine_contact_zone(
     restart: bool = True,
     pressure_tolerance: float | None = None,
     geometry_degree: int = 1,
+    axis: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
 ) -> AdaptiveResult:
     r"""Solve, refine around the contact edges and solve again, until they are resolved.
 
@@ -269,10 +303,17 @@ def refine_contact_zone(
     answer. Every solve after the first starts from the previous contact zones
     (:func:`inside_zones`), unless ``restart`` is False.
 
+    In 3D (tetrahedra), the edge of every pair is its
+    :func:`~dolfinx_contact_s2s.contact_front.contact_front` around ``axis``: it is
+    resolved when its bracket (the mean radii of the active and inactive ends of the
+    edges that cross it) is at most ``tolerance`` times its radius (or ``length``);
+    else the cells within ``layers`` edge lengths of every crossing are refined, and
+    the next solve starts with the multiplier nodes inside the estimated radius active.
+
     Args:
         build: Makes the problem of a mesh: forms, Dirichlet conditions, contact
             surfaces and pairs, e.g. from the tags of the user's Gmsh model.
-        mesh: The mesh, or a list of meshes (simplices, linear geometry).
+        mesh: The mesh, or a list of meshes (triangles or tetrahedra, linear geometry).
         cell_tags: Their cell tags (as many).
         facet_tags: Their facet tags (as many).
         tolerance: Largest relative bracket of a resolved edge.
@@ -298,6 +339,8 @@ def refine_contact_zone(
             chords of a linear geometry their multiplier sees the kinks between the
             facets (two elastic P2 spheres, a/h = 24.6: the peak pressure 7% off on the
             chords, 0.08% on the curved mesh).
+        axis: 3D models: a point and a direction of the axis the contact fronts are
+            measured from (e.g. the first touching point and the normal there).
 
     Returns:
         The last problem (solved; the caller destroys it), its meshes and tags, and the
@@ -306,7 +349,8 @@ def refine_contact_zone(
     Raises:
         NotImplementedError: On every rank, for a mesh that is not made of simplices
             with a linear coordinate element (DOLFINx refines those only).
-        ValueError: On every rank, for a bad argument or a problem without contact.
+        ValueError: On every rank, for a bad argument or a problem without contact (in
+            3D: without ``axis``, or with ``pressure_tolerance``).
         RefinementError: On every rank, if an edge is still too wide after
             ``max_steps`` refinements; it names the widest bracket reached.
     """
@@ -341,6 +385,17 @@ def refine_contact_zone(
                 f"{degree}; mesh the scene with triangles and linear geometry"
             )
 
+    three = meshes[0].topology.dim == 3
+    if three and axis is None:
+        raise ValueError("a 3D model needs the axis (point, direction) of its contact fronts")
+    if three and pressure_tolerance is not None:
+        raise ValueError("pressure_tolerance refines 2D models only")
+    if three:
+        assert axis is not None
+        c, n = (np.asarray(v, dtype=np.float64).reshape(-1) for v in axis)
+        if c.size != 3 or n.size != 3 or not np.all(np.isfinite(np.r_[c, n])) or not n.any():
+            raise ValueError(f"axis must be a point and a nonzero direction in 3D, not {axis!r}")
+
     history: list[AdaptiveStep] = []
     problem: UnilateralContactProblem | None = None
     first: list | None = None
@@ -356,11 +411,26 @@ def refine_contact_zone(
         if not isinstance(problem, UnilateralContactProblem):
             raise ValueError("build must return a UnilateralContactProblem")
         problem.solve(load_factors, active=first)
-        profiles, zones = _zones(problem, estimate)
-        if not any(zones):
-            raise ValueError("the solve has no contact zone with an edge to refine")
         wide: list[npt.NDArray[np.floating]] = []
         widest, relative = 0.0, 0.0
+        if three:
+            assert axis is not None
+            profiles, zones, fronts = [], [], _fronts(problem, axis)
+            if not any(f.points.shape[0] for f in fronts):
+                raise ValueError("the solve has no contact front to refine")
+        else:
+            (profiles, zones), fronts = _zones(problem, estimate), []
+            if not any(zones):
+                raise ValueError("the solve has no contact zone with an edge to refine")
+        for front in (f for f in fronts if f.points.shape[0]):
+            reference = length if length is not None else max(front.radius, 1e-300)
+            widest = max(widest, front.bracket)
+            relative = max(relative, front.bracket / reference)
+            if front.bracket > tolerance * reference:
+                wide += [
+                    np.append(p, layers * h)
+                    for p, h in zip(front.points, front.edge_lengths, strict=True)
+                ]
         for z in (z for pair_zones in zones for z in pair_zones):
             reference = length if length is not None else max(z.length, 1e-300)
             for edge in (z.start, z.end):
@@ -378,7 +448,14 @@ def refine_contact_zone(
         solves = problem.history.iterations
         history.append(
             AdaptiveStep(
-                _unknowns(problem), widest, relative, zones, seconds, solves, first is not None
+                _unknowns(problem),
+                widest,
+                relative,
+                zones,
+                seconds,
+                solves,
+                first is not None,
+                fronts,
             )
         )
         logger.info(
@@ -402,7 +479,10 @@ def refine_contact_zone(
             meshes[k], (ctags[k], ftags[k]) = refine_marked(m, edges, (ctags[k], ftags[k]))
             if snaps[k] is not None:
                 snap_boundary(meshes[k], ftags[k], snaps[k])
-        if restart:
+        if restart and three:
+            assert axis is not None
+            first = [_inside_front(f, axis) for f in fronts]
+        elif restart:
             first = [inside_zones(p, z) for p, z in zip(profiles, zones, strict=True)]
     raise RefinementError(
         f"the contact edges were not resolved to {tolerance:g} in {max_steps} refinements"
