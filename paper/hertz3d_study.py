@@ -35,19 +35,24 @@ import ufl
 from dolfinx_contact_s2s import (
     Material,
     contact_force,
+    contact_front,
     contact_pair,
     contact_surface,
     gmsh_session,
     model_to_mesh,
 )
 from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap
-from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from dolfinx_contact_s2s.unilateral import (
+    RefinementError,
+    UnilateralContactProblem,
+    refine_contact_zone,
+)
 from paper import hertz3d
 from paper.hertz import axisymmetric as axi
 from paper.hertz.exact import pressure_l2_error
 from paper.scenes import size_field
 
-__all__ = ["axisymmetric", "nodes", "read", "run"]
+__all__ = ["adaptive", "axisymmetric", "nodes", "read", "run"]
 
 
 def nodes(problem: UnilateralContactProblem) -> dict[str, np.ndarray]:
@@ -125,23 +130,41 @@ def _l2(problem: UnilateralContactProblem, a: float, p0: float) -> tuple[float, 
     return float(total[0]), float(total[1])
 
 
-def read(problem: UnilateralContactProblem, a: float, p0: float) -> dict[str, typing.Any]:
-    r"""The measures of the module docstring against Hertz's ``a`` and ``p0`` (collective)."""
+def read(
+    problem: UnilateralContactProblem, a: float, p0: float, *, force: bool = True
+) -> dict[str, typing.Any]:
+    r"""The measures of the module docstring against Hertz's ``a`` and ``p0`` (collective).
+
+    Also the :func:`~dolfinx_contact_s2s.contact_front` of :math:`\lambda` around the
+    :math:`z`-axis: ``"a_front"`` the middle of its bracket, ``"front"`` the bracket,
+    ``"a_level"`` the mean radius of the zero crossings. ``force=False`` skips the
+    contact force (it integrates the coupling again).
+    """
     data = nodes(problem)
     r = np.hypot(data["x"][:, 0], data["x"][:, 1])
     pole = int(np.argmin(r + np.abs(data["x"][:, 2])))
     a_h, inside, outside = _radius(data)
     error2, norm2 = _l2(problem, a, p0)
-    force = contact_force(problem.pairs[0], problem.multipliers[0])
-    return {
+    front = contact_front(
+        problem.multipliers[0], problem.active[0], centre=(0, 0, 0), axis=(0, 0, 1)
+    )
+    out = {
+        "a_front": front.middle,
+        "a_front_error": front.middle / a - 1,
+        "front": front.bounds,
+        "front_over_a": front.bracket / front.radius,
+        "a_level": front.radius,
+    }
+    if force:
+        f = contact_force(problem.pairs[0], problem.multipliers[0])
+        out |= {"force_z": float(f.contactor[2]), "pressure_integral": f.pressure_integral}
+    return out | {
         "a": a_h,
         "bracket": (inside, outside),
         "p0": float(data["pressure"][pole]),
         "a_error": a_h / a - 1,
         "p0_error": float(data["pressure"][pole]) / p0 - 1,
         "L2_error": math.sqrt(error2 / norm2),
-        "force_z": float(force.contactor[2]),
-        "pressure_integral": force.pressure_integral,
         "active_nodes": int(data["active"].sum()),
         "profile": (r, data["pressure"]),
     }
@@ -180,14 +203,7 @@ def run(
         problem.solve([1.0])
         seconds = comm.bcast(time.perf_counter() - begin, root=0)
         measured = read(problem, a, p0)
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft)
-        # The load as assembled (the flat face's discrete area): what equilibrium balances.
-        applied = comm.allreduce(
-            dolfinx.fem.assemble_scalar(
-                dolfinx.fem.form(scene.F / (math.pi * scene.R1**2) * ds(hertz3d.TAGS["upper_flat"]))
-            ),
-            op=MPI.SUM,
-        )
+        applied = _applied(scene, mesh, ft)
         unknowns = _unknowns(problem)
         solves = problem.history.iterations
     profile = measured.pop("profile")
@@ -211,6 +227,94 @@ def run(
         "seconds": seconds,
         "cells": mesh.topology.index_map(3).size_global,
     }
+
+
+def _applied(scene: hertz3d.Scene, mesh: dolfinx.mesh.Mesh, ft: dolfinx.mesh.MeshTags) -> float:
+    """The load as assembled (the flat face's discrete area): what equilibrium balances."""
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft)
+    q = scene.F / (math.pi * scene.R1**2)
+    form = dolfinx.fem.form(q * ds(hertz3d.TAGS["upper_flat"]))
+    return mesh.comm.allreduce(dolfinx.fem.assemble_scalar(form), op=MPI.SUM)
+
+
+def adaptive(
+    comm: MPI.Comm,
+    name: str,
+    *,
+    n: int = 40,
+    degree: int = 2,
+    tolerance: float = 0.12,
+    max_steps: int = 3,
+) -> list[dict[str, typing.Any]]:
+    r"""Scene ``name`` from a user's mesh (size :math:`R/n` near the contact), refined by λ.
+
+    :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` around the :math:`z`-axis
+    until the contact front's bracket is at most ``tolerance`` times its radius (or
+    ``max_steps`` refinements): new nodes on the spheres (:func:`paper.hertz3d.projection`),
+    geometry of degree ``degree``. One record per step, read from :math:`\lambda`
+    (:func:`read`, without the force); the last also has the force balance.
+    """
+    scene = hertz3d.SCENES[name]
+    R = min(scene.R1, scene.R2)
+    a, p0 = hertz3d.exact(scene)
+    comm.Barrier()
+    begin = time.perf_counter()
+    mesh, ct, ft = hertz3d.mesh(comm, scene, h=R / n, reach=0.1 * R, geometry_degree=1)
+    make = hertz3d.build(scene, degree=degree, prefix=f"hertz3d_adaptive_{degree}_")
+    latest: list[tuple] = []
+    records: list[dict[str, typing.Any]] = []
+
+    def build(domain, cell_tags, facet_tags) -> UnilateralContactProblem:
+        latest[:] = [(domain, facet_tags)]
+        return make(domain, cell_tags, facet_tags)
+
+    def on_step(step: int, problem: UnilateralContactProblem) -> None:
+        measured = read(problem, a, p0, force=False)
+        measured.pop("profile")
+        records.append(
+            {
+                "study": "hertz-3d-adaptive",
+                "scene": name,
+                "degree": degree,
+                "step": step,
+                "h0_over_R": 1 / n,
+                "ranks": comm.size,
+                "a_exact": a,
+                "p0_exact": p0,
+                **measured,
+                "unknowns": _unknowns(problem),
+                "solves": problem.history.iterations,
+                "cells": latest[0][0].topology.index_map(3).size_global,
+                "seconds": comm.bcast(time.perf_counter() - begin, root=0),
+            }
+        )
+
+    options = {"snap": hertz3d.projection(scene), "geometry_degree": degree, "on_step": on_step}
+    try:
+        result = refine_contact_zone(
+            build,
+            mesh,
+            ct,
+            ft,
+            tolerance=tolerance,
+            max_steps=max_steps,
+            axis=((0, 0, 0), (0, 0, 1)),
+            **options,
+        )
+        problem, resolved = result.problem, True
+    except RefinementError as error:
+        problem, resolved = error.problem, False
+    with problem:
+        f = contact_force(problem.pairs[0], problem.multipliers[0])
+        applied = _applied(scene, *latest[0])
+    records[-1] |= {
+        "resolved": resolved,
+        "tolerance": tolerance,
+        "force_z": float(f.contactor[2]),
+        "force_error": abs(abs(float(f.contactor[2])) - applied) / applied,
+        "seconds_total": comm.bcast(time.perf_counter() - begin, root=0),
+    }
+    return records
 
 
 def _axi_block(comm: MPI.Comm, W: float, D: float, h: float, reach: float, far: float) -> tuple:

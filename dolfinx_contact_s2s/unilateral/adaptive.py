@@ -284,6 +284,7 @@ def refine_contact_zone(
     pressure_tolerance: float | None = None,
     geometry_degree: int = 1,
     axis: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
+    on_step: Callable[[int, UnilateralContactProblem], None] | None = None,
 ) -> AdaptiveResult:
     r"""Solve, refine around the contact edges and solve again, until they are resolved.
 
@@ -341,6 +342,8 @@ def refine_contact_zone(
             chords, 0.08% on the curved mesh).
         axis: 3D models: a point and a direction of the axis the contact fronts are
             measured from (e.g. the first touching point and the normal there).
+        on_step: Called as ``on_step(step, problem)`` on every process after every
+            solve, before the problem is destroyed (to read or save each step).
 
     Returns:
         The last problem (solved; the caller destroys it), its meshes and tags, and the
@@ -445,6 +448,8 @@ def refine_contact_zone(
                 eta, balls = _pressure_balls(profile, pair_zones, pressure_tolerance, layers)
                 indicator, wide = max(indicator, eta), wide + balls
         seconds = problem.comm.bcast(time.perf_counter() - begin, root=0)
+        if on_step is not None:
+            on_step(step, problem)
         solves = problem.history.iterations
         history.append(
             AdaptiveStep(
