@@ -55,12 +55,10 @@
 # Outputs (in `--out`, default `results/`): `hertz_3d.json`, `hertz_3d.png` and the
 # section `hertz_3d` of `report.md`. Run it as `python3 demos/demo_hertz_3d.py` or with
 # `mpirun -n 2`; `--smoke` makes one refinement step of the sphere on the block and
-# solves the half-ball once (P1), checking equilibrium only.
+# solves the half-ball once (P1 both), checking equilibrium only.
 
 # +
 from mpi4py import MPI
-
-import numpy as np
 
 from paper.hertz3d_study import adaptive, axisymmetric
 from paper.records import merge_rank_records
@@ -81,7 +79,7 @@ TOLERANCE = {"a_front_error": 0.01, "p0_error": 0.02, "L2_error": 0.05}
 TOLERANCE_FRONT = 0.12
 STEPS = 1 if args.smoke else 3
 #: The axisymmetric reference (R/n).
-FINE = 250 if args.smoke else 500
+FINE = 150 if args.smoke else 500
 
 
 def show(recs, label):
@@ -126,11 +124,10 @@ def run(name, degree, steps=STEPS):
 # ## A sphere on a block, P2 and P1, and the axisymmetric model of the same bodies
 
 # +
-block = {2: run("sphere-on-block", 2)}
-show(block[2], "P2")
-if not args.smoke:
-    block[1] = run("sphere-on-block", 1)
-    show(block[1], "P1")
+block = {}
+for degree in (1,) if args.smoke else (2, 1):
+    block[degree] = run("sphere-on-block", degree)
+    show(block[degree], f"P{degree}")
 axi = show_axi(axisymmetric(comm, "sphere-on-block", h=1.0 / FINE), f"axisym., h = R/{FINE}")
 # -
 
@@ -147,9 +144,10 @@ for degree in (1,) if args.smoke else (2, 1):
     ball[degree] = run("half-ball", degree, 0 if args.smoke else STEPS)
     show(ball[degree], f"P{degree}")
 ball_axi = show_axi(axisymmetric(comm, "half-ball", h=8.0 / FINE), "axisym. box -> cylinder")
-ball_far = show_axi(
-    axisymmetric(comm, "half-ball", h=8.0 / FINE, size=(80.0, 80.0)), "axisym., block 80 x 80"
-)
+ball_far = None
+if not args.smoke:
+    ball_far = axisymmetric(comm, "half-ball", h=8.0 / FINE, size=(80.0, 80.0))
+    show_axi(ball_far, "axisym., block 80 x 80")
 # -
 
 # ## Checks: the tolerances (P2) and the axisymmetric model within the bound
@@ -169,8 +167,9 @@ def agreement(recs, reference):
     return out
 
 
-checks = [("sphere on block", agreement(block[2], axi))]
-if spheres is not None:
+checks = []
+if not args.smoke:
+    checks.append(("sphere on block", agreement(block[2], axi)))
     checks.append(("two spheres", agreement(spheres, spheres_axi)))
 failed = [
     f"{scene}: {key} differs by {d:.3g} > {bound:.3g}"
@@ -201,7 +200,7 @@ if comm.rank == 0:
 
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     for ax, recs, title in (
-        (axes[0], block[2], "sphere on block, P2"),
+        (axes[0], block[max(block)], f"sphere on block, P{max(block)}"),
         (axes[1], ball[1], "half-ball, P1"),
     ):
         n = [r["unknowns"] for r in recs]
@@ -257,8 +256,14 @@ if comm.rank == 0:
         f"Model error of the finite bodies (axisymmetric, h = R/{FINE}): sphere on block "
         f"a {axi['a_error']:+.2%}, p0 {axi['p0_error']:+.2%}; half-ball on the box (as a "
         f"cylinder of radius 10) a {ball_axi['a_error']:+.2%}, p0 "
-        f"{ball_axi['p0_error']:+.2%}, on an 80 x 80 block a {ball_far['a_error']:+.2%}, "
-        f"p0 {ball_far['p0_error']:+.2%}.",
+        f"{ball_axi['p0_error']:+.2%}"
+        + (
+            ""
+            if ball_far is None
+            else f", on an 80 x 80 block a {ball_far['a_error']:+.2%}, "
+            f"p0 {ball_far['p0_error']:+.2%}"
+        )
+        + ".",
         "",
         "![Hertz 3D](hertz_3d.png)",
     ]
