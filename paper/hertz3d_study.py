@@ -245,6 +245,7 @@ def adaptive(
     degree: int = 2,
     tolerance: float = 0.12,
     max_steps: int = 3,
+    layers: float = 2.0,
 ) -> list[dict[str, typing.Any]]:
     r"""Scene ``name`` from a user's mesh (size :math:`R/n` near the contact), refined by λ.
 
@@ -290,6 +291,7 @@ def adaptive(
         )
 
     options = {"snap": hertz3d.projection(scene), "geometry_degree": degree, "on_step": on_step}
+    options |= {"layers": layers}
     try:
         result = refine_contact_zone(
             build,
