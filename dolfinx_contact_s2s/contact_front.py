@@ -22,7 +22,7 @@ Collective; the same numbers on every process, whatever the partition.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import basix
 import dolfinx
@@ -46,6 +46,10 @@ class ContactFront:
         edge_lengths: Length of each crossing's edge ``(n,)``.
         face_radii: Smallest and largest distance from the axis of the nodes of the faces
             that carry the crossings (``nan`` without crossings).
+        peak: The largest :math:`\lambda` of the multiplier's nodes (the peak pressure).
+        peak_point: Where it is ``(3,)``.
+        peak_length: The longest edge of the multiplier faces at that node (where to
+            refine to measure the peak's discretization error).
     """
 
     points: npt.NDArray[np.floating]
@@ -54,6 +58,9 @@ class ContactFront:
     outside: npt.NDArray[np.floating]
     edge_lengths: npt.NDArray[np.floating]
     face_radii: tuple[float, float]
+    peak: float = math.nan
+    peak_point: npt.NDArray[np.floating] = field(default_factory=lambda: np.full(3, np.nan))
+    peak_length: float = math.nan
 
     @property
     def radius(self) -> float:
@@ -193,6 +200,12 @@ def contact_front(
         face_radii = (float(r.min()), float(r.max()))
     else:
         face_radii = (math.nan, math.nan)
+    corners = np.unique(faces)
+    top = int(corners[np.argmax(lam[corners])]) if corners.size else -1
+    around = faces[np.any(faces == top, axis=1)]
+    lengths = np.concatenate(
+        [np.linalg.norm(X[around[:, e[0]]] - X[around[:, e[1]]], axis=1) for e in ref]
+    )
     return ContactFront(
         points,
         radius(points),
@@ -200,4 +213,7 @@ def contact_front(
         radius(X[o]),
         np.linalg.norm(X[o] - X[i], axis=1),
         face_radii,
+        float(lam[top]) if corners.size else math.nan,
+        X[top].copy() if corners.size else np.full(3, np.nan),
+        float(lengths.max()) if lengths.size else math.nan,
     )

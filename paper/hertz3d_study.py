@@ -246,12 +246,14 @@ def adaptive(
     tolerance: float = 0.12,
     max_steps: int = 3,
     layers: float = 2.0,
+    peak_tolerance: float | None = None,
 ) -> list[dict[str, typing.Any]]:
     r"""Scene ``name`` from a user's mesh (size :math:`R/n` near the contact), refined by λ.
 
     :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` around the :math:`z`-axis
-    until the contact front's bracket is at most ``tolerance`` times its radius (or
-    ``max_steps`` refinements): new nodes on the spheres (:func:`paper.hertz3d.projection`),
+    until the contact front's bracket is at most ``tolerance`` times its radius and the
+    peak of λ changes by at most ``peak_tolerance`` over a step (or ``max_steps``
+    refinements): new nodes on the spheres (:func:`paper.hertz3d.projection`),
     geometry of degree ``degree``. One record per step, read from :math:`\lambda`
     (:func:`read`, without the force); the last also has the force balance.
     """
@@ -291,7 +293,7 @@ def adaptive(
         )
 
     options = {"snap": hertz3d.projection(scene), "geometry_degree": degree, "on_step": on_step}
-    options |= {"layers": layers}
+    options |= {"layers": layers, "peak_tolerance": peak_tolerance}
     try:
         result = refine_contact_zone(
             build,

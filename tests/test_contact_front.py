@@ -76,6 +76,10 @@ def test_hertz_pressure_bracket_holds_the_radius():
     assert lo < a < hi and hi - lo <= np.sqrt(2) / N
     assert lo <= front.radius <= hi and front.radius == pytest.approx(hi)
     assert abs(front.middle - a) <= 0.5 * front.bracket
+    # The peak: p0 at the node on the axis, the faces' diagonals around it.
+    assert front.peak == pytest.approx(p0, rel=1e-14)
+    assert np.allclose(front.peak_point, (0.5, 0.5, 1.0), atol=1e-14)
+    assert front.peak_length == pytest.approx(np.sqrt(2) / N, rel=1e-12)
 
 
 def test_quadratic_field_crossings_near_the_circle():

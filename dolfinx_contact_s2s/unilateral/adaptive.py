@@ -27,6 +27,7 @@ This module needs petsc4py and must be imported explicitly.
 from __future__ import annotations
 
 import logging
+import math
 import time
 import typing
 from collections.abc import Callable, Sequence
@@ -60,7 +61,7 @@ logger = logging.getLogger("dolfinx_contact_s2s.unilateral")
 
 @dataclass(frozen=True)
 class AdaptiveStep:
-    """One solve of :func:`refine_contact_zone`.
+    r"""One solve of :func:`refine_contact_zone`.
 
     Attributes:
         unknowns: Displacement and multiplier unknowns of the solve (global).
@@ -72,6 +73,8 @@ class AdaptiveStep:
         solves: Linear solves of the active-set iteration of the step.
         restarted: Whether the step started from the previous step's contact zones.
         fronts: The contact front of every pair (3D models; empty in 2D).
+        peak_change: Largest relative change of a pair's peak :math:`\lambda` since
+            the previous step (``nan`` at the first step or without ``peak_tolerance``).
     """
 
     unknowns: int
@@ -82,6 +85,7 @@ class AdaptiveStep:
     solves: int = 0
     restarted: bool = False
     fronts: list[ContactFront] = field(default_factory=list)
+    peak_change: float = math.nan
 
     @property
     def lengths(self) -> list[list[float]]:
@@ -229,6 +233,19 @@ def _pressure_balls(
     return worst, balls
 
 
+def _peak(profile: PressureProfile, layers: float = 1.0) -> tuple[float, npt.NDArray]:
+    """A 2D pair's largest lambda and the ball of ``layers`` node spacings around its node."""
+    if not profile.pressure.size:
+        return 0.0, np.full(profile.x.shape[1] + 1, np.nan)
+    k = int(np.argmax(profile.pressure))
+    same = np.flatnonzero(profile.chain == profile.chain[k])
+    s = profile.s[same]
+    j = int(np.searchsorted(s, profile.s[k]))
+    gaps = np.diff(s)[max(j - 1, 0) : j + 1]
+    spacing = float(gaps.max()) if gaps.size else 0.0
+    return float(profile.pressure[k]), np.append(profile.x[k], layers * spacing)
+
+
 def _fronts(
     problem: UnilateralContactProblem, axis: tuple[npt.ArrayLike, npt.ArrayLike]
 ) -> list[ContactFront]:
@@ -282,6 +299,7 @@ def refine_contact_zone(
     snap: Projection | Sequence[Projection | None] | None = None,
     restart: bool = True,
     pressure_tolerance: float | None = None,
+    peak_tolerance: float | None = None,
     geometry_degree: int = 1,
     axis: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
     on_step: Callable[[int, UnilateralContactProblem], None] | None = None,
@@ -333,6 +351,11 @@ def refine_contact_zone(
             whose :math:`\lambda` lies farther than this (relative to the zone's largest
             :math:`\lambda`) from the line through its two neighbours', until none
             does (``None``: the edges only).
+        peak_tolerance: Also refine around the node of every pair's largest
+            :math:`\lambda` (the peak pressure; ``layers`` of its longest edge), until
+            the peak changes by at most this (relative) over a step: the change is then
+            the a posteriori estimate of the peak's discretization error. The edge
+            criterion alone leaves the mesh at the peak as it was (``None``: no peak).
         geometry_degree: Degree of the geometry of the meshes given to ``build``: 2
             lifts every (refined, snapped) mesh to a quadratic geometry with its midside
             nodes on ``snap``'s geometry (:func:`~dolfinx_contact_s2s.meshing.curved_mesh`).
@@ -373,6 +396,8 @@ def refine_contact_zone(
         raise ValueError(f"layers must be positive, not {layers!r}")
     if pressure_tolerance is not None and not (0.0 < pressure_tolerance < 1.0):
         raise ValueError(f"pressure_tolerance must lie in (0, 1), not {pressure_tolerance!r}")
+    if peak_tolerance is not None and not (0.0 < peak_tolerance < 1.0):
+        raise ValueError(f"peak_tolerance must lie in (0, 1), not {peak_tolerance!r}")
     if geometry_degree not in (1, 2):
         raise ValueError(f"geometry_degree must be 1 or 2, not {geometry_degree!r}")
     snaps = list(snap) if isinstance(snap, Sequence) else [snap] * len(meshes)
@@ -402,6 +427,7 @@ def refine_contact_zone(
     history: list[AdaptiveStep] = []
     problem: UnilateralContactProblem | None = None
     first: list | None = None
+    peaks: list[float] = []
     for step in range(int(max_steps) + 1):
         begin = time.perf_counter()
         if problem is not None:
@@ -447,6 +473,20 @@ def refine_contact_zone(
             for profile, pair_zones in zip(profiles, zones, strict=True):
                 eta, balls = _pressure_balls(profile, pair_zones, pressure_tolerance, layers)
                 indicator, wide = max(indicator, eta), wide + balls
+        change = math.nan
+        if peak_tolerance is not None:
+            now = [f.peak for f in fronts] if three else [_peak(p)[0] for p in profiles]
+            if peaks:
+                change = max(
+                    abs(b - a) / max(abs(b), 1e-300) for a, b in zip(peaks, now, strict=True)
+                )
+            if not change <= peak_tolerance:  # nan at the first step: refine
+                wide += (
+                    [np.append(f.peak_point, layers * f.peak_length) for f in fronts]
+                    if three
+                    else [_peak(p, layers)[1] for p in profiles]
+                )
+            peaks = now
         seconds = problem.comm.bcast(time.perf_counter() - begin, root=0)
         if on_step is not None:
             on_step(step, problem)
@@ -461,16 +501,18 @@ def refine_contact_zone(
                 solves,
                 first is not None,
                 fronts,
+                change,
             )
         )
         logger.info(
             "contact edge, step %d: %d unknowns, widest bracket %.3g (%.3g of the reference), "
-            "pressure indicator %.3g, %d solves, %.2f s",
+            "pressure indicator %.3g, peak change %.3g, %d solves, %.2f s",
             step,
             history[-1].unknowns,
             widest,
             relative,
             indicator,
+            change,
             solves,
             seconds,
         )
@@ -492,6 +534,7 @@ def refine_contact_zone(
     raise RefinementError(
         f"the contact edges were not resolved to {tolerance:g} in {max_steps} refinements"
         + ("" if pressure_tolerance is None else f" (pressure to {pressure_tolerance:g})")
+        + ("" if peak_tolerance is None else f" (peak to {peak_tolerance:g})")
         + ": "
         f"the widest bracket is {history[-1].bracket:.3g}, {history[-1].relative:.3g} of its "
         f"reference length (steps: "
