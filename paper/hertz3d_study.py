@@ -305,9 +305,11 @@ def adaptive(
             axis=((0, 0, 0), (0, 0, 1)),
             **options,
         )
-        problem, resolved = result.problem, True
+        problem, resolved, history = result.problem, True, result.history
     except RefinementError as error:
-        problem, resolved = error.problem, False
+        problem, resolved, history = error.problem, False, error.history
+    for rec, step in zip(records, history, strict=True):
+        rec["peak_change"] = step.peak_change
     with problem:
         f = contact_force(problem.pairs[0], problem.multipliers[0])
         applied = _applied(scene, *latest[0])
