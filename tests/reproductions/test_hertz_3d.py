@@ -13,8 +13,12 @@ its contact front and its peak pressure
 
 from mpi4py import MPI
 
+import dolfinx
+import numpy as np
 import pytest
 
+from dolfinx_contact_s2s.meshing import curved_mesh
+from paper import hertz3d
 from paper.hertz3d_study import adaptive, axisymmetric
 
 
@@ -65,3 +69,35 @@ def test_agrees_with_axisymmetric(steps):
     for key in ("a", "p0"):
         bound = own[key] + abs(axi[f"{key}_error"]) * axi[f"{key}_exact"]
         assert abs(value[key] - axi[key]) <= bound, (key, value[key], axi[key], bound)
+
+
+@pytest.mark.parametrize("name", ["sphere-on-block", "two-spheres", "half-ball"])
+def test_curved_faces_on_their_surfaces(name):
+    """Lifted to 10-node tetrahedra, every node of every curved face is on its surface.
+
+    The spheres' contact caps, the rest of the spheres and the cylinder's side, against
+    their equations (a free face left on its chords dented the sphere by 0.9% of R).
+    """
+    scene = hertz3d.SCENES[name]
+    R = min(scene.R1, scene.R2)
+    linear = hertz3d.mesh(MPI.COMM_WORLD, scene, h=R / 8, reach=0.1 * R, geometry_degree=1)
+    mesh, _, ft = curved_mesh(*linear, hertz3d.projection(scene))
+    T = hertz3d.TAGS
+    surfaces = {
+        T["upper_sphere"]: lambda x: np.linalg.norm(x - (0, 0, scene.R1), axis=1) - scene.R1,
+        T["upper_free"]: lambda x: np.linalg.norm(x - (0, 0, scene.R1), axis=1) - scene.R1,
+    }
+    if np.isinf(scene.R2) and not scene.box:
+        surfaces[T["lower_free"]] = lambda x: np.hypot(x[:, 0], x[:, 1]) - scene.width
+    elif not np.isinf(scene.R2):
+        for tag in (T["lower_top"], T["lower_free"]):
+            surfaces[tag] = lambda x: np.linalg.norm(x - (0, 0, -scene.R2), axis=1) - scene.R2
+    checked = 0
+    for tag, distance in surfaces.items():
+        facets = ft.find(tag)
+        nodes = dolfinx.mesh.entities_to_geometry(mesh, 2, facets)
+        assert nodes.shape[1] == 6
+        x = mesh.geometry.x[nodes.reshape(-1)]
+        assert np.max(np.abs(distance(x)), initial=0.0) <= 1e-12 * max(R, scene.width)
+        checked += MPI.COMM_WORLD.allreduce(facets.size)
+    assert checked > 0
