@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Small linear-algebra helpers on PETSc matrices: a dense gather and a symmetry test."""
+"""Small linear-algebra helpers on PETSc objects: dense gather, symmetry test, ``y += t B u``."""
 
 from __future__ import annotations
 
@@ -10,7 +10,21 @@ from petsc4py import PETSc
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["SYMMETRY_TOLERANCE", "gather_dense", "is_symmetric"]
+__all__ = ["SYMMETRY_TOLERANCE", "add_scaled", "gather_dense", "is_symmetric", "plain_vector"]
+
+
+def add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
+    """``y += t B u``."""
+    w = B.createVecLeft()
+    B.mult(u, w)
+    y.axpy(t, w)
+    w.destroy()
+
+
+def plain_vector(nest: PETSc.Mat) -> PETSc.Vec:
+    """An MPI vector in the row layout of a ``MatNest`` (the nest reads it by index sets)."""
+    n, N = nest.getSizes()[0]
+    return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
 
 
 def gather_dense(A: PETSc.Mat) -> npt.NDArray[np.floating]:

@@ -36,6 +36,7 @@ from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
 from dolfinx_contact_s2s.checks.inputs import check_solver_types, check_stiffness
 from dolfinx_contact_s2s.compat import DOLFINX_VERSION
+from dolfinx_contact_s2s.la import add_scaled, plain_vector
 from dolfinx_contact_s2s.options import (
     MUMPS_WORKSPACE_ERRORS,
     PETScOptions,
@@ -63,14 +64,6 @@ DEFAULT_OPTIONS = {
 TIMINGS = ("stiffness", "contact", "system", "solve")
 
 
-def add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
-    """``y += t B u``."""
-    w = B.createVecLeft()
-    B.mult(u, w)
-    y.axpy(t, w)
-    w.destroy()
-
-
 def _as_list(forms: typing.Any) -> list:
     return list(forms) if isinstance(forms, Sequence) else [forms]
 
@@ -96,12 +89,6 @@ def _active(op: CouplingOperator, inactive: npt.NDArray[np.int64]) -> PETSc.Vec:
     mine = inactive[(inactive >= start) & (inactive < end)]
     active.array[mine - start] = 0.0
     return active
-
-
-def _plain_vector(nest: PETSc.Mat) -> PETSc.Vec:
-    """An MPI vector in the row layout of a ``MatNest`` (the nest reads it by index sets)."""
-    n, N = nest.getSizes()[0]
-    return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
 
 
 class ContactSystem:
@@ -189,6 +176,7 @@ class ContactSystem:
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
         self.load = 1.0
+        self._plain = True  # no extra fields (build)
         self.fields: dict[str, PETSc.IS] = {}
         self._support: checks.SupportGram | None = None
         # PETSc objects of one assembly (kept across the systems built from it), and of
@@ -410,7 +398,10 @@ class ContactSystem:
         self.build()
 
     def build(
-        self, released: Sequence[npt.NDArray[np.int64]] | None = None, load: float = 1.0
+        self,
+        released: Sequence[npt.NDArray[np.int64]] | None = None,
+        load: float = 1.0,
+        extra: Callable[[list, list, list], None] | None = None,
     ) -> None:
         r"""The saddle point of Eq. (18) from the assembled blocks.
 
@@ -418,13 +409,17 @@ class ContactSystem:
             released: Per pair, global multipliers set to zero besides the pair's
                 inactive ones (the inactive set of a unilateral contact iteration).
             load: Factor on :math:`\mathbf F` and the Dirichlet values.
+            extra: Fields after the multipliers (friction): ``extra(blocks, rhs, names)``
+                appends its rows and columns to the block lists (its matrices stay its
+                own) before the system is made; the system is then solved as unsymmetric.
         """
         with self.timed("system"):
             self.load = float(load)  # the load factor of the current saddle point
-            self._assemble_system(released, load)
+            self._plain = extra is None
+            self._assemble_system(released, load, extra)
 
     def _assemble_system(
-        self, released: Sequence[npt.NDArray[np.int64]] | None, load: float
+        self, released: Sequence[npt.NDArray[np.int64]] | None, load: float, extra: typing.Any
     ) -> None:
         nb, npairs = len(self.spaces), len(self.pairs)
         # K lives in the previous A only (kind="aij"): take it out before A goes, and free
@@ -478,15 +473,17 @@ class ContactSystem:
                 self._system.extend([D, inactive])
             self._system.extend([G, active])
 
+        names = [f"u{i}" for i in range(nb)] + [f"lambda{j}" for j in range(npairs)]
+        if extra is not None:
+            extra(blocks, rhs, names)
         nest = PETSc.Mat().createNest(blocks, comm=self.comm)
         nest.assemble()
         index_sets = nest.getNestISs()[0]
-        names = [f"u{i}" for i in range(nb)] + [f"lambda{j}" for j in range(npairs)]
         self.fields = dict(zip(names, index_sets, strict=True))
         self._system.extend(index_sets)
         if self.kind == "nest":
             self.A = nest
-            self.b = _plain_vector(nest)
+            self.b = plain_vector(nest)
             self._system.append(nest)
         else:
             self.A = nest.convert(PETSc.Mat.Type.AIJ, out=PETSc.Mat())
@@ -516,9 +513,10 @@ class ContactSystem:
         (``"fieldsplit"``, say) is left alone.
         """
         assert self.A is not None
+        symmetric = self.symmetric and self._plain
         if self.options.get("pc_type") in ("lu", "cholesky"):
-            self.options.set_default("pc_type", "cholesky" if self.symmetric else "lu")
-        self.A.setOption(PETSc.Mat.Option.SYMMETRIC, self.symmetric)
+            self.options.set_default("pc_type", "cholesky" if symmetric else "lu")
+        self.A.setOption(PETSc.Mat.Option.SYMMETRIC, symmetric)
 
     def _configure_solver(self) -> None:
         """Operator, options and named fields (``-prefix_pc_type fieldsplit``) of the solver."""
@@ -586,7 +584,8 @@ class ContactSystem:
     def scatter(self) -> None:
         """Copy the solution :attr:`x` into :attr:`u` and :attr:`multipliers`."""
         assert self.x is not None
-        for f, is_ in zip(self.u + self.multipliers, self.fields.values(), strict=True):
+        fields = list(self.fields.values())[: len(self.u) + len(self.multipliers)]
+        for f, is_ in zip(self.u + self.multipliers, fields, strict=True):
             sub = self.x.getSubVector(is_)
             f.x.array[: sub.getLocalSize()] = sub.array_r
             self.x.restoreSubVector(is_, sub)
