@@ -201,7 +201,7 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
     return np.concatenate(comm.allgather(mine)).astype(np.int64)
 
 
-def assemble_coupling(pair: ContactPair) -> CouplingOperator:
+def assemble_coupling(pair: ContactPair, tangential: bool = False) -> CouplingOperator:
     r"""Assemble the coupling of a contact pair with global indices (collective).
 
     The rows are the multiplier dofs of ``pair.Q``; there is one matrix per distinct
@@ -210,6 +210,8 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
 
     Args:
         pair: The contact pair.
+        tangential: The tangential coupling of friction instead (2D,
+            :meth:`~dolfinx_contact_s2s.pair.ContactPair.coupling_blocks`), with a zero gap.
 
     Returns:
         The :class:`CouplingOperator`. The caller must ``destroy()`` it.
@@ -217,7 +219,7 @@ def assemble_coupling(pair: ContactPair) -> CouplingOperator:
     Raises:
         ValueError: On every rank, if the contactor faces none of its targets.
     """
-    groups = pair.coupling_blocks()
+    groups = pair.coupling_blocks(tangential)
     comm = pair.contactor.comm
     backend = pair.contactor.backend
     if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:
