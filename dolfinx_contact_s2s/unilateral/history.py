@@ -34,6 +34,10 @@ class Iteration:
         active_sets: Per pair, the global indices of this process's active multipliers
             in this solve.
         outer: Uzawa update this solve belongs to (augmented Lagrangian), else 0.
+        stick: Friction: per pair, the active multipliers that stick (over all
+            processes; the others of :attr:`active` slip); empty without friction.
+        stick_sets: Friction: per pair, the global indices of this process's sticking
+            multipliers in this solve.
     """
 
     active: tuple[int, ...]
@@ -42,6 +46,8 @@ class Iteration:
     residual: float
     active_sets: tuple[npt.NDArray[np.int64], ...]
     outer: int = 0
+    stick: tuple[int, ...] = ()
+    stick_sets: tuple[npt.NDArray[np.int64], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -97,6 +103,7 @@ class ContactHistory:
                 lines.append(
                     f"    {k}{outer}: active {list(it.active)}, +{it.entered} -{it.left}, "
                     f"residual {it.residual:.2e}"
+                    + (f", stick {list(it.stick)}" if it.stick else "")
                 )
             for u in step.updates:
                 rate = "" if u.rate is None else f", rate {u.rate:.3g}"

@@ -71,17 +71,23 @@ class ContactIteration:
         left: int,
         residual: float,
         outer: int = 0,
+        stick: list[npt.NDArray[np.bool_]] | None = None,
     ) -> None:
-        """Append the solve with the active set ``active`` to ``step``, log it, monitor it."""
+        """Append the solve with the active set ``active`` to ``step``, log it, monitor it.
+
+        With friction, ``stick`` holds the sticking multipliers of every pair.
+        """
         counts, sets = self.complementarity.counts(active)
-        iteration = Iteration(counts, entered, left, residual, sets, outer)
+        sticking, stick_sets = self.complementarity.counts(stick) if stick else ((), ())
+        iteration = Iteration(counts, entered, left, residual, sets, outer, sticking, stick_sets)
         step.iterations.append(iteration)
         logger.info(
-            "contact %s, load %g, solve %d: active %s, +%d -%d, residual %.2e",
+            "contact %s, load %g, solve %d: active %s (stick %s), +%d -%d, residual %.2e",
             self.algorithm,
             step.load,
             len(step.iterations),
             counts,
+            sticking,
             entered,
             left,
             residual,
