@@ -8,7 +8,8 @@ discretizations and a new solution algorithm", Computers & Structures 79 (2001).
 The modules that need petsc4py are imported explicitly, as ``dolfinx.fem.petsc``:
 :mod:`~dolfinx_contact_s2s.problem` (the tied problem of Eq. 18, holding a
 :class:`~dolfinx_contact_s2s.system.ContactSystem`),
-:mod:`~dolfinx_contact_s2s.unilateral` (Eq. 1), :mod:`~dolfinx_contact_s2s.assemble`
+:mod:`~dolfinx_contact_s2s.unilateral` (Eq. 1), :mod:`~dolfinx_contact_s2s.friction`
+(Coulomb, 2D), :mod:`~dolfinx_contact_s2s.assemble`
 (the coupling block), :mod:`~dolfinx_contact_s2s.fieldsplit` (the iterative solver) and
 :mod:`~dolfinx_contact_s2s.analysis` (solvability, inf-sup, round-off).
 """

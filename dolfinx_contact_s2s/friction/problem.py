@@ -1,0 +1,244 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Frictional contact (Coulomb) with Lagrange multipliers, in 2D, over load steps.
+
+:class:`FrictionalContactProblem` holds a
+:class:`~dolfinx_contact_s2s.system.ContactSystem` (through
+:class:`~dolfinx_contact_s2s.problem.ContactProblemBase`), the normal complementarity of
+Eq. (1) (:class:`~dolfinx_contact_s2s.unilateral.complementarity.Complementarity`) and
+the tangential field (:class:`~dolfinx_contact_s2s.friction.coulomb.CoulombFriction`),
+and runs the semismooth Newton (primal-dual active set) iteration on both.
+
+This module needs petsc4py and must be imported explicitly.
+"""
+
+from __future__ import annotations
+
+import time
+import typing
+from collections.abc import Callable, Sequence
+
+import dolfinx
+import numpy as np
+import ufl
+
+from dolfinx_contact_s2s import checks, system_checks
+from dolfinx_contact_s2s.checks.inputs import check_inequality_multipliers
+from dolfinx_contact_s2s.friction.coulomb import CoulombFriction
+from dolfinx_contact_s2s.pair import ContactPair
+from dolfinx_contact_s2s.problem import ContactProblemBase
+from dolfinx_contact_s2s.unilateral.complementarity import Complementarity
+from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
+from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
+from dolfinx_contact_s2s.unilateral.problem import STARTS
+
+__all__ = ["FrictionalContactProblem"]
+
+
+def _check(problem: ContactProblemBase, mu: float, pairs: Sequence[ContactPair]) -> str:
+    """What is wrong with the friction input on this process ('' if nothing)."""
+    if not (isinstance(mu, (int, float, np.floating)) and np.isfinite(mu) and mu >= 0):
+        return f"the friction coefficient mu must be a finite number >= 0, not {mu!r}"
+    for pair in pairs:
+        if pair.contactor.facet_dim != 1 or pair.axisymmetric:
+            return "friction is implemented for plane (2D, not axisymmetric) models only"
+        if pair.obstacles or any(getattr(t, "rigid", False) for t in pair.targets):
+            return "friction is implemented against meshed deformable targets only"
+    try:
+        check_inequality_multipliers(pairs)
+    except ValueError as error:
+        return str(error)
+    return ""
+
+
+class FrictionalContactProblem(ContactProblemBase):
+    r"""Linear elastic bodies in unilateral contact with Coulomb friction (2D).
+
+    The conditions of Eq. (1) on the weighted gaps :math:`\tilde g` (Eq. 17), and per
+    multiplier node Coulomb's law on the weighted tangential slip increments
+    :math:`\tilde s` of each load step (Eq. 40 with the contactor's tangent
+    :math:`\mathbf T = (-n_{C,y}, n_{C,x})` in place of :math:`\mathbf N`, measured from
+    the previous step's solution, so that the answer depends on the load path):
+    :math:`|\lambda_t| \le \mu \lambda_n`, :math:`\tilde s = 0` where
+    :math:`|\lambda_t| < \mu \lambda_n`, :math:`\lambda_t = \mu \lambda_n \tilde s /
+    |\tilde s|` where it slips (:mod:`~dolfinx_contact_s2s.friction.coulomb`).
+    :math:`\lambda_n` is the contact pressure, :math:`\lambda_t` the shear the contactor
+    exerts on the target along :math:`\mathbf T` (in the multiplier space of
+    :math:`\lambda_n`). Every iteration is one (unsymmetric) saddle-point solve with
+    the inactive, stick and slip sets of the previous one; a load step ends when the
+    sets and slip directions repeat and both complementarity residuals are below
+    ``tolerance``.
+
+    After :meth:`solve`: :attr:`u`, :attr:`multipliers` (:math:`\lambda_n`),
+    :attr:`tangential` (:math:`\lambda_t`), :attr:`active`, :attr:`stick` (1 on the
+    sticking multipliers) and :attr:`history` (its iterations count the active and
+    sticking multipliers of every pair). A load step that does not converge within
+    ``max_iterations`` raises
+    :class:`~dolfinx_contact_s2s.unilateral.ContactConvergenceError` on every process,
+    with the sets of every iteration.
+    """
+
+    def __init__(
+        self,
+        a: ufl.Form | Sequence[ufl.Form],
+        L: ufl.Form | Sequence[ufl.Form],
+        pairs: Sequence[ContactPair],
+        bcs: Sequence[dolfinx.fem.DirichletBC] = (),
+        *,
+        mu: float,
+        start: str = "nearest",
+        penalty: float = 1.0,
+        max_iterations: int = 50,
+        tolerance: float = 1e-10,
+        monitor: Callable[[Iteration], None] | None = None,
+        **options: typing.Any,
+    ):
+        r"""Set up the problem: the arguments of ``UnilateralContactProblem`` and ``mu``.
+
+        Args:
+            a: Bilinear form of each displacement space.
+            L: Linear form of each displacement space.
+            pairs: Contact pairs (2D, meshed deformable targets).
+            bcs: Dirichlet conditions.
+            mu: Coulomb's friction coefficient :math:`\mu \ge 0`.
+            start: First active set, one of
+                :data:`~dolfinx_contact_s2s.unilateral.STARTS`; it sticks.
+            penalty: Factor :math:`\kappa` of the complementarity parameters
+                :math:`c_j` (normal and tangential).
+            max_iterations: Largest number of linear solves per load step.
+            tolerance: Largest relative complementarity residual of a converged step.
+            monitor: Called with every recorded iteration.
+            options: ``petsc_options_prefix`` (required) and the other keyword arguments
+                of :class:`~dolfinx_contact_s2s.problem.LinearContactProblem`. The
+                default factorization is LU: the system is unsymmetric.
+
+        Raises:
+            ValueError: On every rank, for :math:`\mu` negative, NaN or infinite, a bad
+                parameter, ``kind="nest"``, or a 3D, axisymmetric or rigid-target pair.
+        """
+        if options.get("kind", "aij") != "aij":
+            raise ValueError("friction needs kind='aij' (an unsymmetric system, factorized)")
+        if start not in STARTS:
+            raise ValueError(f"start must be one of {STARTS}, not {start!r}")
+        if not (penalty > 0 and np.isfinite(penalty)):
+            raise ValueError(f"penalty must be positive and finite, not {penalty}")
+        if int(max_iterations) < 1 or not tolerance > 0:
+            raise ValueError("need max_iterations >= 1 and tolerance > 0")
+        self.start, self.penalty = start, float(penalty)
+        self.max_iterations, self.tolerance = int(max_iterations), float(tolerance)
+        self._monitor = monitor
+        self._friction: CoulombFriction | None = None
+        self._complementarity: Complementarity | None = None
+        super().__init__(a, L, pairs, bcs, **options)
+        problems = [m for m in self.comm.allgather(_check(self, mu, pairs)) if m]
+        if problems:
+            self.destroy()
+            raise ValueError(problems[0])
+        self.mu = float(mu)
+        self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
+        self.stick = [dolfinx.fem.Function(p.Q, name=f"stick{j}") for j, p in enumerate(pairs)]
+        self.tangential: list[dolfinx.fem.Function] = []
+        self.history = ContactHistory("coulomb")
+
+    def solver_defaults(self) -> dict[str, typing.Any]:
+        """The defaults of every linear solve: MUMPS LU (the system is unsymmetric)."""
+        return {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+
+    def assemble(self, check: bool = True) -> None:
+        r"""Assemble the system, the complementarity parameters and the tangential coupling.
+
+        With ``check``, the support of every body (Eq. 33) counts the tangential rows too
+        if :math:`\mu > 0` (a body held by sticking contact), and the rank check
+        (Eq. 35) is the normal one.
+        """
+        system = self.system
+        system.assemble(check=False)
+        for old in (self._complementarity, self._friction):
+            if old is not None:
+                old.destroy()
+        self._complementarity = Complementarity(system, self.penalty, self.tolerance)
+        self._friction = CoulombFriction(system, self.mu)
+        self.tangential = self._friction.multipliers
+        if check:
+            ops = system.operators + (self._friction.operators if self.mu > 0 else [])
+            K = [system.stiffness_matrix(i) for i in range(len(self.spaces))]
+            labels = [checks.connected_components(V.mesh)[0] for V in self.spaces]
+            try:
+                system_checks.check_support(
+                    self.spaces, K, system.masks, ops, system.space_index, labels
+                )
+                system_checks.check_redundancy(
+                    system.pairs, system.operators, system.masks, system.space_index
+                )
+            finally:
+                for k in K:
+                    k.destroy()
+
+    def solve(
+        self, load_factors: Sequence[float] = (1.0,)
+    ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
+        r"""Assemble, then solve the load steps in turn, each slipping from the previous one.
+
+        Args:
+            load_factors: Factors on the loads and Dirichlet values, solved in order.
+
+        Returns:
+            The displacement of every space, and :math:`\lambda_n` and
+            :math:`\lambda_t` of every pair, at the last load factor.
+
+        Raises:
+            ValueError: On every rank, if the model is singular or a factor not finite.
+            ContactConvergenceError: On every rank, if a load step does not converge.
+        """
+        loads = [float(t) for t in load_factors]
+        if not loads or not all(np.isfinite(loads)):
+            raise ValueError("give at least one finite load factor")
+        self.assemble()
+        comp, friction = self._complementarity, self._friction
+        assert comp is not None and friction is not None
+        run = ContactIteration(
+            self.system, comp, "coulomb", self.max_iterations, self.tolerance, self._monitor
+        )
+        self.history = run.history
+        active = None
+        for t in loads:
+            step = LoadStep(t)
+            self.history.steps.append(step)
+            begin = time.perf_counter()
+            if active is None:
+                active = comp.first_active(t, self.start)
+                friction.start(active)
+            for _ in range(self.max_iterations):
+                stick = [s.copy() for s in friction.stick]
+                self.system.build(comp.released(active), load=t, extra=friction)
+                run.solve_linear(step)
+                friction.scatter()
+                z, normal = comp.evaluate(comp.lambdas(), comp.weighted_gaps())
+                new, entered, left = comp.update(active, z)
+                changed, tangential = friction.update(z, new, comp.scales, self.tolerance)
+                run.record(step, active, entered, left, max(normal, tangential), stick=stick)
+                active = new
+                if entered == left == changed == 0 and max(normal, tangential) <= self.tolerance:
+                    step.converged = True
+                    break
+            else:
+                run.fail(
+                    f"the frictional active-set iteration did not converge in "
+                    f"{self.max_iterations} solves at load {t:g} (raise max_iterations, "
+                    "or take smaller load steps)"
+                )
+            friction.accept()
+            step.seconds = time.perf_counter() - begin
+        for fs, sets in ((self.active, active), (self.stick, friction.stick)):
+            for f, a in zip(fs, sets, strict=True):
+                f.x.array[:] = 0.0
+                f.x.array[: a.size] = a
+                f.x.scatter_forward()
+        return self.u, self.multipliers, self.tangential
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects and remove the problem's options from the database."""
+        for obj in (self._complementarity, self._friction):
+            if obj is not None:
+                obj.destroy()
+        super().destroy()
