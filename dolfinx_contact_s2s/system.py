@@ -349,6 +349,7 @@ class ContactSystem:
                 or constraints are redundant.
         """
         self._destroy_assembly()
+        self.solver.reset()  # the sizes may change (build(extra=) before)
         if not self._K:
             self._create_stiffness()
         with self.timed("stiffness"):
