@@ -97,6 +97,20 @@ class CoulombFriction:
     def _vec(self, values: npt.NDArray[np.floating]) -> PETSc.Vec:
         return PETSc.Vec().createWithArray(values.copy(), comm=self.system.comm)
 
+    def set_coefficient(self, mu: float) -> None:
+        """The friction coefficient of the next builds and updates."""
+        self.mu = float(mu)
+
+    def state(self) -> tuple[list, ...]:
+        """Copies of the previous solution, the active and sticking sets and the signs."""
+        parts = (self.previous, self.active, self.stick, self.signs)
+        return tuple([a.copy() for a in part] for part in parts)
+
+    def restore(self, state: tuple[list, ...]) -> list[npt.NDArray[np.bool_]]:
+        """Continue from another assembly's :meth:`state`; returns the active set."""
+        self.previous, self.active, self.stick, self.signs = state
+        return [a.copy() for a in self.active]
+
     def start(self, active: list[npt.NDArray[np.bool_]]) -> None:
         """The sets of the first solve: every active multiplier sticks."""
         self.active = [a.copy() for a in active]

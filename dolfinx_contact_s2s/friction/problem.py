@@ -35,7 +35,7 @@ from dolfinx_contact_s2s.unilateral.problem import STARTS
 __all__ = ["FrictionalContactProblem"]
 
 
-def _check(problem: ContactProblemBase, mu: float, pairs: Sequence[ContactPair]) -> str:
+def _check(mu: float, pairs: Sequence[ContactPair]) -> str:
     """What is wrong with the friction input on this process ('' if nothing)."""
     if not (isinstance(mu, (int, float, np.floating)) and np.isfinite(mu) and mu >= 0):
         return f"the friction coefficient mu must be a finite number >= 0, not {mu!r}"
@@ -130,7 +130,7 @@ class FrictionalContactProblem(ContactProblemBase):
         self._friction: CoulombFriction | None = None
         self._complementarity: Complementarity | None = None
         super().__init__(a, L, pairs, bcs, **options)
-        problems = [m for m in self.comm.allgather(_check(self, mu, pairs)) if m]
+        problems = [m for m in self.comm.allgather(_check(mu, pairs)) if m]
         if problems:
             self.destroy()
             raise ValueError(problems[0])
@@ -175,12 +175,22 @@ class FrictionalContactProblem(ContactProblemBase):
                     k.destroy()
 
     def solve(
-        self, load_factors: Sequence[float] = (1.0,)
+        self,
+        load_factors: Sequence[float] = (1.0,),
+        *,
+        restart: bool = True,
+        mu: float | None = None,
     ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         r"""Assemble, then solve the load steps in turn, each slipping from the previous one.
 
         Args:
             load_factors: Factors on the loads and Dirichlet values, solved in order.
+            restart: Start from rest (zero displacement, the ``start`` set); ``False``
+                continues the previous solve (its solution and sets) under the loads and
+                Dirichlet values as they are now: a load path of several shapes (say a
+                normal load, then a tangential one), changed between the solves.
+            mu: The friction coefficient of these steps (default: the problem's ``mu``),
+                e.g. 0 for a frictionless normal load before a tangential one.
 
         Returns:
             The displacement of every space, and :math:`\lambda_n` and
@@ -193,21 +203,26 @@ class FrictionalContactProblem(ContactProblemBase):
         loads = [float(t) for t in load_factors]
         if not loads or not all(np.isfinite(loads)):
             raise ValueError("give at least one finite load factor")
+        problems = [m for m in self.comm.allgather(_check(self.mu if mu is None else mu, [])) if m]
+        if problems:
+            raise ValueError(problems[0])
+        state = None if restart or self._friction is None else self._friction.state()
         self.assemble()
         comp, friction = self._complementarity, self._friction
         assert comp is not None and friction is not None
+        friction.set_coefficient(self.mu if mu is None else mu)
+        active = None if state is None else friction.restore(state)
         run = ContactIteration(
             self.system, comp, "coulomb", self.max_iterations, self.tolerance, self._monitor
         )
         self.history = run.history
-        active = None
         for t in loads:
             step = LoadStep(t)
             self.history.steps.append(step)
             begin = time.perf_counter()
             if active is None:
                 active = comp.first_active(t, self.start)
-                friction.start(active)
+            friction.start(active)  # every step's first solve: the active multipliers stick
             for _ in range(self.max_iterations):
                 stick = [s.copy() for s in friction.stick]
                 self.system.build(comp.released(active), load=t, extra=friction)
