@@ -217,6 +217,8 @@ class CoulombFriction:
             worst = max(worst, float(np.max(np.abs(lam - np.clip(zt, -bound, bound)), initial=0)))
             was = self.stick[j] & self.active[j]
             stick = active[j] & (bound > 0) & (np.abs(zt) < bound + np.where(was, tau, -tau))
+            # A slip that turns round at once sticks first (else it cycles between the two).
+            stick |= active[j] & (bound > 0) & (self.signs[j] * np.sign(zt) < 0)
             signs = np.where(stick | ~active[j], 0.0, np.sign(zt))
             changed += int(np.count_nonzero((stick != was) | (signs != self.signs[j])))
             self.stick[j], self.signs[j], self.active[j] = stick, signs, active[j].copy()
