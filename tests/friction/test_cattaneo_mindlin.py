@@ -72,7 +72,7 @@ def test_cattaneo_mindlin(degree):
         return MPI.COMM_WORLD.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx)))
 
     with FrictionalContactProblem(
-        a_form, L, [pair], bcs, mu=MU, penalty=0.1, petsc_options_prefix=f"cm{degree}_"
+        a_form, L, [pair], bcs, mu=MU, petsc_options_prefix=f"cm{degree}_"
     ) as problem:
         motion.interpolate(lambda x: np.stack([0.0 * x[0], -DELTA + 0.0 * x[0]]))
         problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
