@@ -315,3 +315,45 @@ def test_not_converged_raises_with_sets():
     with pytest.raises(ContactConvergenceError, match="stick") as error:
         _solve_uneven(MPI.COMM_WORLD, 1, 0.2, 0.4, [1.0], "fr_fail_")
     assert not error.value.history.steps[-1].converged
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_load_order(degree):
+    """Press then slide, or slide lightly pressed then press: two answers, each exact.
+
+    Pressed by p, then the top moved by d beyond the stick limit: the slip patch test,
+    lambda_t = mu p. Moved by d under a light pressure p1 (sliding, lambda_t = mu p1),
+    then pressed to p with the top held: nothing slips, the shear mu p1 stays locked in
+    (the uniform state of pressure p and shear mu p1), lambda_t = mu p1.
+    """
+    part, V = _scene(degree)
+    a, _, v = MATERIAL.forms(V)
+    p, p1, mu, d = 0.75, 0.2, 0.3, 0.2
+    pressure, shear = (dolfinx.fem.Constant(part.mesh, 0.0) for _ in range(2))
+    ds = ufl.Measure("ds", domain=part.mesh, subdomain_data=part.facet_tags)
+    L = -pressure * v[1] * ds(23) - shear * v[0] * ds(1)
+    L += shear * v[1] * (ds(2) + ds(22)) - shear * v[1] * (ds(4) + ds(24))
+    Vx, _ = V.sub(0).collapse()
+    top = dolfinx.fem.Function(Vx)
+    fdim = part.mesh.topology.dim - 1
+    dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, part.facet_tags.find(23))
+    bcs = [*_bcs(part, V), dolfinx.fem.dirichletbc(top, dofs, V.sub(0))]
+    pair = _pair(part, V, degree)
+
+    def state(p_, tau, c):
+        pressure.value, shear.value = p_, tau
+        top.interpolate(lambda x: _exact(p_, tau)(x)[0] + c)
+
+    for order, path, tau_end in (
+        ("press, slide", [(p, 0.0, 0.0), (p, mu * p, d)], mu * p),
+        ("slide, press", [(p1, mu * p1, d), (p, mu * p1, d)], mu * p1),
+    ):
+        with FrictionalContactProblem(
+            a, L, [pair], bcs, mu=mu, petsc_options_prefix="fr_order_"
+        ) as problem:
+            for k, (p_, tau, c) in enumerate(path):
+                state(p_, tau, c)
+                (u,), (lam_n,), (lam_t,) = problem.solve([1.0], restart=k == 0)
+            reference = _reference(part, V, _exact(p, tau_end), d)
+            last, total = _check_uniform(problem, pair, V, u, lam_n, lam_t, p, tau_end, reference)
+            assert last.stick == ((0,) if order == "press, slide" else (total,)), order
