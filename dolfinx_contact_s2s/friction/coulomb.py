@@ -67,10 +67,15 @@ class CoulombFriction:
         active: Per pair, the owned active multipliers (normal) of the next build.
     """
 
-    def __init__(self, system: ContactSystem, mu: float):
-        """Assemble the tangential coupling of every pair of the assembled ``system``."""
+    def __init__(self, system: ContactSystem, mu: float, slip_bound: float | None = None):
+        r"""Assemble the tangential coupling of every pair of the assembled ``system``.
+
+        With ``slip_bound`` :math:`g`, Tresca's law: :math:`b_j = g` where
+        :math:`\lambda_{n,j} - c_j \tilde g_j > 0`, and :math:`\lambda_t = g \xi_j` on the
+        slipping multipliers; ``mu`` is not used.
+        """
         self.system = system
-        self.mu = float(mu)
+        self.mu, self.slip_bound = float(mu), slip_bound
         self.operators: list[CouplingOperator] = [
             assemble_coupling(pair, tangential=True) for pair in system.pairs
         ]
@@ -162,11 +167,14 @@ class CoulombFriction:
                 blocks[i][f] = columns.transpose(PETSc.Mat())
                 self._objects.extend([prev, rows, columns, blocks[i][f]])
             g.pointwiseMult(g, fixed)
-            rhs.append(g)
-            # Slip: lambda_t - mu xi lambda_n = 0; off the active set lambda_t = 0.
+            # Slip: lambda_t - mu xi lambda_n = 0 (Tresca: lambda_t = g xi); else lambda_t = 0.
             blocks[f][f] = _diagonal(op.G, (~stick).astype(float))
-            slip = self.active[j] & ~stick
-            blocks[f][nb + j] = _diagonal(op.G, -self.mu * self.signs[j] * slip)
+            slip = (self.active[j] & ~stick) * self.signs[j]
+            if self.slip_bound is not None:
+                g.array[:] += self.slip_bound * slip
+            rhs.append(g)
+            mu = 0.0 if self.slip_bound is not None else self.mu
+            blocks[f][nb + j] = _diagonal(op.G, -mu * slip)
             self._objects.extend([on, fixed, g, blocks[f][f], blocks[f][nb + j]])
             names.append(f"lambda_t{j}")
 
@@ -205,7 +213,9 @@ class CoulombFriction:
         parts = []
         for j, s in enumerate(self.slips()):
             lam = self.multipliers[j].x.array[: s.size]
-            bound = self.mu * np.maximum(0.0, np.where(np.isfinite(z[j]), z[j], 0.0))
+            zn = np.where(np.isfinite(z[j]), z[j], 0.0)
+            g = self.slip_bound
+            bound = self.mu * np.maximum(0.0, zn) if g is None else np.where(zn > 0, g, 0.0)
             cs = scales[j].array_r * s
             parts.append((lam, lam + cs, bound, cs))
         scale = max(

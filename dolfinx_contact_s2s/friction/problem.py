@@ -35,10 +35,10 @@ from dolfinx_contact_s2s.unilateral.problem import STARTS
 __all__ = ["FrictionalContactProblem"]
 
 
-def _check(mu: float, pairs: Sequence[ContactPair]) -> str:
+def _check(mu: float, pairs: Sequence[ContactPair], name: str = "friction coefficient mu") -> str:
     """What is wrong with the friction input on this process ('' if nothing)."""
     if not (isinstance(mu, (int, float, np.floating)) and np.isfinite(mu) and mu >= 0):
-        return f"the friction coefficient mu must be a finite number >= 0, not {mu!r}"
+        return f"the {name} must be a finite number >= 0, not {mu!r}"
     for pair in pairs:
         if pair.contactor.facet_dim != 1 or pair.axisymmetric:
             return "friction is implemented for plane (2D, not axisymmetric) models only"
@@ -86,6 +86,7 @@ class FrictionalContactProblem(ContactProblemBase):
         bcs: Sequence[dolfinx.fem.DirichletBC] = (),
         *,
         mu: float,
+        slip_bound: float | None = None,
         start: str = "nearest",
         penalty: float = 1.0,
         max_iterations: int = 50,
@@ -101,6 +102,8 @@ class FrictionalContactProblem(ContactProblemBase):
             pairs: Contact pairs (2D, meshed deformable targets).
             bcs: Dirichlet conditions.
             mu: Coulomb's friction coefficient :math:`\mu \ge 0`.
+            slip_bound: Tresca's law instead: the given bound :math:`g \ge 0` of
+                :math:`|\lambda_t|` (a shear stress) in place of :math:`\mu \lambda_n`.
             start: First active set, one of
                 :data:`~dolfinx_contact_s2s.unilateral.STARTS`; it sticks.
             penalty: Factor :math:`\kappa` of the complementarity parameters
@@ -130,11 +133,12 @@ class FrictionalContactProblem(ContactProblemBase):
         self._friction: CoulombFriction | None = None
         self._complementarity: Complementarity | None = None
         super().__init__(a, L, pairs, bcs, **options)
-        problems = [m for m in self.comm.allgather(_check(mu, pairs)) if m]
+        bound = "" if slip_bound is None else _check(slip_bound, [], "slip bound")
+        problems = [m for m in self.comm.allgather(bound or _check(mu, pairs)) if m]
         if problems:
             self.destroy()
             raise ValueError(problems[0])
-        self.mu = float(mu)
+        self.mu, self.slip_bound = float(mu), slip_bound
         self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
         self.stick = [dolfinx.fem.Function(p.Q, name=f"stick{j}") for j, p in enumerate(pairs)]
         self.tangential: list[dolfinx.fem.Function] = []
@@ -157,10 +161,11 @@ class FrictionalContactProblem(ContactProblemBase):
             if old is not None:
                 old.destroy()
         self._complementarity = Complementarity(system, self.penalty, self.tolerance)
-        self._friction = CoulombFriction(system, self.mu)
+        self._friction = CoulombFriction(system, self.mu, self.slip_bound)
         self.tangential = self._friction.multipliers
         if check:
-            ops = system.operators + (self._friction.operators if self.mu > 0 else [])
+            held = self.mu > 0 or bool(self.slip_bound)
+            ops = system.operators + (self._friction.operators if held else [])
             K = [system.stiffness_matrix(i) for i in range(len(self.spaces))]
             labels = [checks.connected_components(V.mesh)[0] for V in self.spaces]
             try:

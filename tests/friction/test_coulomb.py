@@ -121,15 +121,21 @@ def _check_uniform(problem, pair, V, u, lam_n, lam_t, p, tau_t, reference):
     return step.iterations[-1], pair.Q.dofmap.index_map.size_global
 
 
+#: Coulomb (mu = 0.5 for stick, 0.3 for slip) or Tresca (the slip bound g = 0.25 and 0.3).
+LAWS = {"coulomb": {}, "tresca": {"slip_bound": 0.25}}
+
+
+@pytest.mark.parametrize("law", LAWS)
 @pytest.mark.parametrize("degree", [1, 2])
-def test_patch_stick(degree):
-    """tau < mu p: every multiplier sticks, lambda_t = tau, the uniform state."""
+def test_patch_stick(degree, law):
+    """tau < mu p (< g): every multiplier sticks, lambda_t = tau, the uniform state."""
     part, V = _scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, tau, mu = 0.75, 0.2, 0.5
     pair = _pair(part, V, degree)
+    L = _loads(part, v, p, tau)
     with FrictionalContactProblem(
-        a, _loads(part, v, p, tau), [pair], _bcs(part, V), mu=mu, petsc_options_prefix="fr_st_"
+        a, L, [pair], _bcs(part, V), mu=mu, petsc_options_prefix="fr_st_", **LAWS[law]
     ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
         last, total = _check_uniform(
@@ -138,20 +144,21 @@ def test_patch_stick(degree):
         assert last.active == (total,) and last.stick == (total,)
 
 
+@pytest.mark.parametrize("law", [("coulomb", {}), ("tresca", {"slip_bound": 0.3})])
 @pytest.mark.parametrize("direction", [1.0, -1.0])
 @pytest.mark.parametrize("degree", [1, 2])
-def test_patch_slip(degree, direction):
-    """The top moved by d beyond the stick limit: all slip, lambda_t = mu p sign(d)."""
+def test_patch_slip(degree, direction, law):
+    """The top moved by d beyond the stick limit: all slip, lambda_t = mu p (g) sign(d)."""
     part, V = _scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, mu, d = 0.75, 0.3, 0.2 * direction
-    tau = mu * p * direction
+    tau = law[1].get("slip_bound", mu * p) * direction
     exact = _exact(p, tau)
     top = lambda x: exact(x)[0] + d  # noqa: E731
     pair = _pair(part, V, degree)
     L = _loads(part, v, p, tau, top_shear=False)
     with FrictionalContactProblem(
-        a, L, [pair], _bcs(part, V, top), mu=mu, petsc_options_prefix="fr_sl_"
+        a, L, [pair], _bcs(part, V, top), mu=mu, petsc_options_prefix="fr_sl_", **law[1]
     ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
         last, total = _check_uniform(
@@ -294,18 +301,20 @@ def test_ranks_agree():
         assert np.max(np.abs(w - s[perm])) <= BOUND * max(np.max(np.abs(s)), 1.0)
 
 
-@pytest.mark.parametrize("mu", [-0.1, np.nan, np.inf, "0.3"])
-def test_bad_mu(mu):
-    """A friction coefficient that is negative, NaN, infinite or no number: ValueError."""
+@pytest.mark.parametrize("key", ["mu", "slip_bound"])
+@pytest.mark.parametrize("value", [-0.1, np.nan, np.inf, "0.3"])
+def test_bad_mu(key, value):
+    """A friction coefficient or slip bound negative, NaN, infinite or no number: ValueError."""
     part, V = _scene(1)
     a, _, v = MATERIAL.forms(V)
-    with pytest.raises(ValueError, match="friction coefficient mu"):
+    given = {"mu": value} if key == "mu" else {"mu": 0.3, "slip_bound": value}
+    with pytest.raises(ValueError, match=r"friction coefficient mu|slip bound"):
         FrictionalContactProblem(
             a,
             _loads(part, v, 0.75, 0.2),
             [_pair(part, V, 1)],
             _bcs(part, V),
-            mu=mu,
+            **given,
             petsc_options_prefix="fr_bad_",
         )
 
