@@ -95,9 +95,11 @@ def test_curved_faces_on_their_surfaces(name):
     checked = 0
     for tag, distance in surfaces.items():
         facets = ft.find(tag)
+        checked += MPI.COMM_WORLD.allreduce(facets.size)
+        if not facets.size:  # DOLFINx 0.9 stops on a floating-point exception
+            continue
         nodes = dolfinx.mesh.entities_to_geometry(mesh, 2, facets)
         assert nodes.shape[1] == 6
         x = mesh.geometry.x[nodes.reshape(-1)]
-        assert np.max(np.abs(distance(x)), initial=0.0) <= 1e-12 * max(R, scene.width)
-        checked += MPI.COMM_WORLD.allreduce(facets.size)
+        assert np.max(np.abs(distance(x))) <= 1e-12 * max(R, scene.width)
     assert checked > 0
