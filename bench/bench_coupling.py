@@ -138,19 +138,10 @@ def measure(degree, n):
         (surfaces, pair), t_setup = timed(
             comm, lambda name=name: surfaces_and_pair(scene, spaces, degree, name)
         )
-        counted = []
-        blocks = pair.coupling_blocks
-
-        def counting(blocks=blocks, counted=counted):
-            """The pair's blocks, counting the sub-segments (groups) on the way."""
-            out = blocks()
-            counted.append(sum(b.rows.shape[0] for b in out))
-            return out
-
-        pair.coupling_blocks = counting
+        # The sub-segments (groups of the pair's blocks), counted outside the timing.
+        segments = comm.allreduce(sum(b.rows.shape[0] for b in pair.coupling_blocks()))
         op, t_coupling = best(lambda pair=pair: assemble_coupling(pair), repeat)
         op.destroy()
-        segments = comm.allreduce(counted[-1])
         entry = {
             "ran": backend_name(surfaces["upper"]),
             "setup_seconds": t_setup,
