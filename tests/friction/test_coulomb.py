@@ -31,74 +31,22 @@ import pytest
 import ufl
 from partition_keys import gather, keys, match
 
-from dolfinx_contact_s2s import Material, contact_pair, contact_surface
 from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.la import gather_dense
 from dolfinx_contact_s2s.unilateral import ContactConvergenceError, UnilateralContactProblem
-from paper.scenes_multi import two_blocks_one_mesh
+from paper.friction import (
+    MATERIAL,
+    patch_bcs,
+    patch_exact,
+    patch_loads,
+    patch_pair,
+    patch_reference,
+    patch_scene,
+)
 
 EPS = np.finfo(np.float64).eps
 BOUND = 1e-10
-E, NU, H = 1.0, 0.3, 0.5
-MATERIAL = Material(E=E, nu=NU)
-G = E / (2 * (1 + NU))
-
-
-def _scene(degree, comm=MPI.COMM_WORLD, elements=(7, 5)):
-    part = two_blocks_one_mesh(comm, elements, geometry_degree=1).parts["blocks"]
-    V = dolfinx.fem.functionspace(part.mesh, ("Lagrange", degree, (2,)))
-    return part, V
-
-
-def _pair(part, V, degree):
-    tags = part.facet_tags
-    return contact_pair(
-        contact_surface(V, tags, 20), contact_surface(V, tags, 10), multiplier=("Lagrange", degree)
-    )
-
-
-def _bcs(part, V, top_x=None):
-    """Rollers under the lower block, its corner (0, 0) pinned; the top's u_x if given."""
-    mesh, tags = part.mesh, part.facet_tags
-    fdim = mesh.topology.dim - 1
-    rollers = dolfinx.fem.locate_dofs_topological(V.sub(1), fdim, tags.find(1))
-    corner = dolfinx.mesh.locate_entities_boundary(
-        mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
-    )
-    pin = dolfinx.fem.locate_dofs_topological(V.sub(0), 0, corner)
-    zero = dolfinx.default_scalar_type(0)
-    bcs = [dolfinx.fem.dirichletbc(zero, d, V.sub(c)) for c, d in ((1, rollers), (0, pin))]
-    if top_x is not None:
-        Vx, _ = V.sub(0).collapse()
-        g = dolfinx.fem.Function(Vx)
-        g.interpolate(top_x)
-        dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, tags.find(23))
-        bcs.append(dolfinx.fem.dirichletbc(g, dofs, V.sub(0)))
-    return bcs
-
-
-def _loads(part, v, p, tau, top_shear=True):
-    """Pressure p on the top, the shear tau on the sides and bottom (and top) of both."""
-    ds = ufl.Measure("ds", domain=part.mesh, subdomain_data=part.facet_tags)
-    L = -p * v[1] * ds(23) - tau * v[0] * ds(1)
-    L += tau * v[1] * (ds(2) + ds(22)) - tau * v[1] * (ds(4) + ds(24))
-    return L + tau * v[0] * ds(23) if top_shear else L
-
-
-def _exact(p, tau):
-    """The uniform state's displacement, without the upper block's c."""
-    exx, eyy, gamma = NU * (1 + NU) * p / E, -(1 - NU**2) * p / E, tau / G
-    return lambda x: np.stack([exx * x[0] + gamma * x[1], eyy * x[1]])
-
-
-def _reference(part, V, exact, c):
-    """The uniform state in V, c added to u_x on the upper block's cells (tag 2)."""
-    u = dolfinx.fem.Function(V)
-    u.interpolate(exact)
-    upper = np.unique(V.dofmap.list[part.cell_tags.find(2)])
-    u.x.array[2 * upper] += c
-    return u
 
 
 def _owned_max(values):
@@ -129,18 +77,17 @@ LAWS = {"coulomb": {}, "tresca": {"slip_bound": 0.25}}
 @pytest.mark.parametrize("degree", [1, 2])
 def test_patch_stick(degree, law):
     """tau < mu p (< g): every multiplier sticks, lambda_t = tau, the uniform state."""
-    part, V = _scene(degree)
+    part, V = patch_scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, tau, mu = 0.75, 0.2, 0.5
-    pair = _pair(part, V, degree)
-    L = _loads(part, v, p, tau)
+    pair = patch_pair(part, V, degree)
+    L = patch_loads(part, v, p, tau)
     with FrictionalContactProblem(
-        a, L, [pair], _bcs(part, V), mu=mu, petsc_options_prefix="fr_st_", **LAWS[law]
+        a, L, [pair], patch_bcs(part, V), mu=mu, petsc_options_prefix="fr_st_", **LAWS[law]
     ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
-        last, total = _check_uniform(
-            problem, pair, V, u, lam_n, lam_t, p, tau, _reference(part, V, _exact(p, tau), 0.0)
-        )
+        reference = patch_reference(part, V, patch_exact(p, tau), 0.0)
+        last, total = _check_uniform(problem, pair, V, u, lam_n, lam_t, p, tau, reference)
         assert last.active == (total,) and last.stick == (total,)
 
 
@@ -149,20 +96,20 @@ def test_patch_stick(degree, law):
 @pytest.mark.parametrize("degree", [1, 2])
 def test_patch_slip(degree, direction, law):
     """The top moved by d beyond the stick limit: all slip, lambda_t = mu p (g) sign(d)."""
-    part, V = _scene(degree)
+    part, V = patch_scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, mu, d = 0.75, 0.3, 0.2 * direction
     tau = law[1].get("slip_bound", mu * p) * direction
-    exact = _exact(p, tau)
+    exact = patch_exact(p, tau)
     top = lambda x: exact(x)[0] + d  # noqa: E731
-    pair = _pair(part, V, degree)
-    L = _loads(part, v, p, tau, top_shear=False)
+    pair = patch_pair(part, V, degree)
+    L = patch_loads(part, v, p, tau, top_shear=False)
     with FrictionalContactProblem(
-        a, L, [pair], _bcs(part, V, top), mu=mu, petsc_options_prefix="fr_sl_", **law[1]
+        a, L, [pair], patch_bcs(part, V, top), mu=mu, petsc_options_prefix="fr_sl_", **law[1]
     ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
         last, total = _check_uniform(
-            problem, pair, V, u, lam_n, lam_t, p, tau, _reference(part, V, exact, d)
+            problem, pair, V, u, lam_n, lam_t, p, tau, patch_reference(part, V, exact, d)
         )
         assert last.active == (total,) and last.stick == (0,)
 
@@ -176,17 +123,17 @@ def _uneven(part, v, p0=0.2, tau0=0.15):
 
 def test_mu_zero_is_frictionless():
     """mu = 0: the frictionless answer of UnilateralContactProblem, lambda_t = 0."""
-    part, V = _scene(2)
+    part, V = patch_scene(2)
     a, _, v = MATERIAL.forms(V)
     top = lambda x: 0.05 * x[0]  # noqa: E731
-    bcs = _bcs(part, V, top)
+    bcs = patch_bcs(part, V, top)
     L = _uneven(part, v)
     with UnilateralContactProblem(
-        a, L, [_pair(part, V, 2)], bcs, petsc_options_prefix="fr_0u_"
+        a, L, [patch_pair(part, V, 2)], bcs, petsc_options_prefix="fr_0u_"
     ) as ref:
         (u_ref,), (lam_ref,) = ref.solve()
         u_ref, lam_ref = u_ref.x.array.copy(), lam_ref.x.array.copy()
-    pair = _pair(part, V, 2)
+    pair = patch_pair(part, V, 2)
     with FrictionalContactProblem(a, L, [pair], bcs, mu=0.0, petsc_options_prefix="fr_0_") as pb:
         (u,), (lam_n,), (lam_t,) = pb.solve()
         tol = _tolerance(V, pair)
@@ -203,10 +150,10 @@ def test_large_mu_is_tied(degree):
     :math:`B_n U = -G`, :math:`B_t U = 0`, from the assembled blocks, Dirichlet columns
     removed, gathered and solved with NumPy.
     """
-    part, V = _scene(degree)
+    part, V = patch_scene(degree)
     a, _, v = MATERIAL.forms(V)
-    bcs, L = _bcs(part, V), _uneven(part, v, 1.0, 0.1)
-    pair = _pair(part, V, degree)
+    bcs, L = patch_bcs(part, V), _uneven(part, v, 1.0, 0.1)
+    pair = patch_pair(part, V, degree)
     with FrictionalContactProblem(a, L, [pair], bcs, mu=1e6, petsc_options_prefix="fr_big_") as pb:
         (u,), (lam_n,), (lam_t,) = pb.solve()
         total = pair.Q.dofmap.index_map.size_global
@@ -243,12 +190,12 @@ def test_large_mu_is_tied(degree):
 
 def _solve_uneven(comm, degree, mu, tau0, loads, prefix):
     """The blocks (13 and 9 elements along the contact) under the uneven load."""
-    part, V = _scene(degree, comm, (13, 9))
+    part, V = patch_scene(degree, comm, (13, 9))
     a, _, v = MATERIAL.forms(V)
-    pair = _pair(part, V, degree)
+    pair = patch_pair(part, V, degree)
     L = _uneven(part, v, 1.0, tau0)
     with FrictionalContactProblem(
-        a, L, [pair], _bcs(part, V), mu=mu, petsc_options_prefix=prefix
+        a, L, [pair], patch_bcs(part, V), mu=mu, petsc_options_prefix=prefix
     ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve(loads)
         n = pair.Q.dofmap.index_map.size_local
@@ -305,15 +252,15 @@ def test_ranks_agree():
 @pytest.mark.parametrize("value", [-0.1, np.nan, np.inf, "0.3"])
 def test_bad_mu(key, value):
     """A friction coefficient or slip bound negative, NaN, infinite or no number: ValueError."""
-    part, V = _scene(1)
+    part, V = patch_scene(1)
     a, _, v = MATERIAL.forms(V)
     given = {"mu": value} if key == "mu" else {"mu": 0.3, "slip_bound": value}
     with pytest.raises(ValueError, match=r"friction coefficient mu|slip bound"):
         FrictionalContactProblem(
             a,
-            _loads(part, v, 0.75, 0.2),
-            [_pair(part, V, 1)],
-            _bcs(part, V),
+            patch_loads(part, v, 0.75, 0.2),
+            [patch_pair(part, V, 1)],
+            patch_bcs(part, V),
             **given,
             petsc_options_prefix="fr_bad_",
         )
@@ -335,7 +282,7 @@ def test_load_order(degree):
     then pressed to p with the top held: nothing slips, the shear mu p1 stays locked in
     (the uniform state of pressure p and shear mu p1), lambda_t = mu p1.
     """
-    part, V = _scene(degree)
+    part, V = patch_scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, p1, mu, d = 0.75, 0.2, 0.3, 0.2
     pressure, shear = (dolfinx.fem.Constant(part.mesh, 0.0) for _ in range(2))
@@ -346,12 +293,12 @@ def test_load_order(degree):
     top = dolfinx.fem.Function(Vx)
     fdim = part.mesh.topology.dim - 1
     dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, part.facet_tags.find(23))
-    bcs = [*_bcs(part, V), dolfinx.fem.dirichletbc(top, dofs, V.sub(0))]
-    pair = _pair(part, V, degree)
+    bcs = [*patch_bcs(part, V), dolfinx.fem.dirichletbc(top, dofs, V.sub(0))]
+    pair = patch_pair(part, V, degree)
 
     def state(p_, tau, c):
         pressure.value, shear.value = p_, tau
-        top.interpolate(lambda x: _exact(p_, tau)(x)[0] + c)
+        top.interpolate(lambda x: patch_exact(p_, tau)(x)[0] + c)
 
     for order, path, tau_end in (
         ("press, slide", [(p, 0.0, 0.0), (p, mu * p, d)], mu * p),
@@ -363,6 +310,6 @@ def test_load_order(degree):
             for k, (p_, tau, c) in enumerate(path):
                 state(p_, tau, c)
                 (u,), (lam_n,), (lam_t,) = problem.solve([1.0], restart=k == 0)
-            reference = _reference(part, V, _exact(p, tau_end), d)
+            reference = patch_reference(part, V, patch_exact(p, tau_end), d)
             last, total = _check_uniform(problem, pair, V, u, lam_n, lam_t, p, tau_end, reference)
             assert last.stick == ((0,) if order == "press, slide" else (total,)), order

@@ -1,0 +1,380 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""The friction scenes of issue [4/6] in 2D, shared by ``tests/friction`` and the demo.
+
+- :func:`cattaneo_mindlin`: two identical half cylinders (:func:`paper.hertz.scene.hertz`
+  with ``lower_radius=R``), plane strain, the upper flat face moved down by
+  :math:`\delta` in four frictionless steps, then sideways in four steps with
+  :math:`\mu = 0.2`; the stick half-width, :math:`q(x)` from :math:`\lambda_t` and
+  :math:`p(x)` from :math:`\lambda_n` against Cattaneo and Mindlin's closed form.
+- :func:`inclined_block`: a block pushed up a slope :math:`\tan\alpha = 0.1`, all of it
+  sliding with :math:`\mu = 0.5`: the reaction's ratio
+  :math:`(\mu + \tan\alpha)/(1 - \mu\tan\alpha)`.
+- The frictional patch test's scene (:func:`patch_scene`, :func:`patch_pair`,
+  :func:`patch_bcs`, :func:`patch_loads`, :func:`patch_exact`, :func:`patch_reference`)
+  and its two cases :func:`patch_stick` and :func:`patch_slip`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import typing
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import ufl
+
+from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s.friction import FrictionalContactProblem
+from paper.hertz.scene import TAGS, hertz
+from paper.scenes_multi import two_blocks_one_mesh
+
+__all__ = [
+    "CM_DELTA",
+    "CM_MU",
+    "CM_SHIFT",
+    "MATERIAL",
+    "NU",
+    "E",
+    "G",
+    "cattaneo_mindlin",
+    "cattaneo_mindlin_shear",
+    "inclined_block",
+    "patch_bcs",
+    "patch_exact",
+    "patch_loads",
+    "patch_pair",
+    "patch_reference",
+    "patch_scene",
+    "patch_slip",
+    "patch_stick",
+]
+
+#: Young's modulus and Poisson's ratio of every scene here.
+E, NU = 1.0, 0.3
+MATERIAL = Material(E=E, nu=NU)
+G = E / (2 * (1 + NU))
+
+#: Cattaneo-Mindlin: the radius, mu, the graded contact half-width, and the rigid motions
+#: of the upper face (a about 0.05, Q / (mu P) about 0.5).
+CM_R, CM_MU, CM_A = 1.0, 0.2, 0.05
+CM_DELTA, CM_SHIFT = 0.009, 0.00147
+
+
+def _gather(comm: MPI.Comm, values: np.ndarray) -> np.ndarray:
+    return np.concatenate(comm.allgather(values))
+
+
+def cattaneo_mindlin_shear(
+    x: np.ndarray, a: float, c: float, p0: float, mu: float = CM_MU
+) -> np.ndarray:
+    r"""Cattaneo and Mindlin's shear :math:`\mu p_0/a [\sqrt{a^2-x^2} - \sqrt{c^2-x^2}]_+`."""
+    return (
+        mu
+        * p0
+        / a
+        * (np.sqrt(np.clip(a**2 - x**2, 0, None)) - np.sqrt(np.clip(c**2 - x**2, 0, None)))
+    )
+
+
+def _relative_l2(x: np.ndarray, values: np.ndarray, exact: typing.Callable, a: float) -> float:
+    """Relative L2 error over [-a, a] of the nodal values (linear interpolation)."""
+    order = np.argsort(x)
+    fine = np.linspace(-a, a, 20001)
+    reference = exact(fine)
+    error = np.interp(fine, x[order], values[order]) - reference
+    return math.sqrt(np.trapezoid(error**2, fine) / np.trapezoid(reference**2, fine))
+
+
+def cattaneo_mindlin(
+    comm: MPI.Comm, degree: int, across: int = 20, *, keep_traction: bool = False
+) -> dict[str, typing.Any]:
+    r"""Cattaneo-Mindlin in 2D at about ``across`` elements across :math:`2a`.
+
+    :math:`P` and :math:`Q` are the integrals of :math:`\lambda_n` and :math:`\lambda_t`;
+    Hertz with :math:`R_e = R/2`, :math:`E^* = E/(2(1-\nu^2))` gives :math:`a` and
+    :math:`p_0`, and :math:`c = a\sqrt{1 - Q/(\mu P)}`. The measured :math:`c` is the
+    largest :math:`|x|` of a sticking multiplier node.
+
+    Returns:
+        A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
+        ``c_error_elements``, ``c_error``, ``q_L2_error``, ``p_L2_error``,
+        ``solves_per_step``, ``unknowns``, ``seconds``; with ``keep_traction`` also
+        ``x``, ``q``, ``p`` (gathered, every rank).
+    """
+    begin = time.perf_counter()
+    scene = hertz(
+        comm, R=CM_R, a=CM_A, elements_across=across, lower_radius=CM_R, geometry_degree=degree
+    )
+    mesh, tags = scene.mesh, scene.facet_tags
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
+    a_form, _, v = MATERIAL.forms(V)
+    L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(2)), v) * ufl.dx
+    motion = dolfinx.fem.Function(V)
+    fdim = mesh.topology.dim - 1
+    top = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(TAGS["upper_top"]))
+    bottom = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(TAGS["lower_bottom"]))
+    bcs = [
+        dolfinx.fem.dirichletbc(motion, top),
+        dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), bottom),
+    ]
+    pair = contact_pair(
+        contact_surface(V, tags, TAGS["contactor"]), contact_surface(V, tags, TAGS["target"])
+    )
+
+    def integral(f):
+        return comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx)))
+
+    solves = []
+    with FrictionalContactProblem(
+        a_form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm{degree}_"
+    ) as problem:
+        motion.interpolate(lambda x: np.stack([0.0 * x[0], -CM_DELTA + 0.0 * x[0]]))
+        problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
+        solves += [len(s.iterations) for s in problem.history.steps]
+        for k in range(1, 5):
+            motion.interpolate(
+                lambda x, k=k: np.stack([0 * x[0] + k * CM_SHIFT / 4, -CM_DELTA + 0 * x[0]])
+            )
+            (_,), (lam_n,), (lam_t,) = problem.solve([1.0], restart=False)
+            if not problem.history.steps[-1].converged:
+                raise RuntimeError(problem.history.describe())
+            solves += [len(s.iterations) for s in problem.history.steps]
+        P, Q = integral(lam_n), integral(lam_t)
+        n = pair.Q.dofmap.index_map.size_local
+        x = _gather(comm, pair.Q.tabulate_dof_coordinates()[:n, 0])
+        q, p = _gather(comm, lam_t.x.array[:n]), _gather(comm, lam_n.x.array[:n])
+        stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
+        unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
+    E_star, R_e = E / (2 * (1 - NU**2)), CM_R / 2
+    a = 2 * math.sqrt(P * R_e / (math.pi * E_star))
+    p0 = 2 * P / (math.pi * a)
+    c_exact = a * math.sqrt(1 - Q / (CM_MU * P))
+    h = 2 * CM_A / across  # the element size at the contact
+    c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
+
+    def hertz_p(s):
+        return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
+
+    record = {
+        "scene": "cattaneo-mindlin",
+        "degree": degree,
+        "across": across,
+        "P": P,
+        "Q": Q,
+        "Q_over_muP": Q / (CM_MU * P),
+        "a": a,
+        "p0": p0,
+        "c_exact": c_exact,
+        "c": c,
+        "h": h,
+        "c_error_elements": abs(c - c_exact) / h,
+        "c_error": abs(c - c_exact) / c_exact,
+        "q_L2_error": _relative_l2(x, q, lambda s: cattaneo_mindlin_shear(s, a, c_exact, p0), a),
+        "p_L2_error": _relative_l2(x, p, hertz_p, a),
+        "solves_per_step": solves,
+        "unknowns": unknowns,
+        "seconds": comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+    }
+    if keep_traction:
+        record.update(x=x, q=q, p=p)
+    return record
+
+
+def inclined_block(
+    comm: MPI.Comm, degree: int, *, tan: float = 0.1, mu: float = 0.5
+) -> dict[str, typing.Any]:
+    r"""A block pushed up a slope, all of it sliding: the reaction's ratio.
+
+    The two blocks of :func:`paper.scenes_multi.two_blocks_one_mesh` (7/5 elements)
+    sheared by :math:`y \mapsto y + x \tan\alpha`; the lower one clamped at its bottom,
+    the upper one pressed by a vertical load :math:`V` on its top and pushed by
+    :math:`u_x = 5` on its left side. The reaction :math:`R_x` of the push is the
+    residual :math:`a(u, v) - L(v)` at the pushed dofs (not :math:`\lambda`).
+
+    Returns:
+        A record: ``ratio`` :math:`R_x / V`, ``expected``, ``error`` (relative),
+        ``sliding`` (no multiplier sticks, some active), ``solves``, ``unknowns``.
+    """
+    part = two_blocks_one_mesh(comm, (7, 5)).parts["blocks"]
+    mesh, tags = part.mesh, part.facet_tags
+    mesh.geometry.x[:, 1] += tan * mesh.geometry.x[:, 0]
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
+    a, _, v = MATERIAL.forms(V)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+    load = 0.2
+    L = -load * v[1] * ds(23)
+    fdim = mesh.topology.dim - 1
+    clamp = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(1))
+    # The left side's nodes off the contact line: their residual is the push's reaction.
+    push = np.setdiff1d(
+        dolfinx.fem.locate_dofs_topological(V.sub(0), fdim, tags.find(24)),
+        dolfinx.fem.locate_dofs_topological(V.sub(0), fdim, tags.find(20)),
+    )
+    bcs = [
+        dolfinx.fem.dirichletbc(np.zeros(2), clamp, V),
+        dolfinx.fem.dirichletbc(dolfinx.default_scalar_type(5.0), push, V.sub(0)),
+    ]
+    pair = patch_pair(part, V, degree)
+    with FrictionalContactProblem(
+        a, L, [pair], bcs, mu=mu, petsc_options_prefix=f"incline{degree}_"
+    ) as problem:
+        (u,), _, _ = problem.solve()
+        last = problem.history.steps[-1].iterations[-1]
+        sliding = last.active[0] > 0 and last.stick == (0,)
+        solves = problem.history.iterations
+    residual = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(ufl.action(a, u) - L))
+    residual.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    owned = push[push < residual.getLocalSize()]
+    reaction = comm.allreduce(float(np.sum(residual.array_r[owned])))
+    residual.destroy()
+    V_load = comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(load * ds(23))))
+    expected = (mu + tan) / (1 - mu * tan)
+    return {
+        "scene": "inclined-block",
+        "degree": degree,
+        "ratio": reaction / V_load,
+        "expected": expected,
+        "error": abs(reaction / V_load - expected) / expected,
+        "sliding": bool(sliding),
+        "solves": solves,
+        "unknowns": V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global,
+    }
+
+
+def patch_scene(
+    degree: int, comm: MPI.Comm = MPI.COMM_WORLD, elements: tuple[int, int] = (7, 5)
+) -> tuple[typing.Any, dolfinx.fem.FunctionSpace]:
+    """The patch test's two non-matching blocks (heights 0.5) and their P``degree`` space."""
+    part = two_blocks_one_mesh(comm, elements, geometry_degree=1).parts["blocks"]
+    V = dolfinx.fem.functionspace(part.mesh, ("Lagrange", degree, (2,)))
+    return part, V
+
+
+def patch_pair(part: typing.Any, V: dolfinx.fem.FunctionSpace, degree: int) -> typing.Any:
+    """The upper block's bottom on the lower one's top, multipliers of degree ``degree``."""
+    tags = part.facet_tags
+    return contact_pair(
+        contact_surface(V, tags, 20), contact_surface(V, tags, 10), multiplier=("Lagrange", degree)
+    )
+
+
+def patch_bcs(
+    part: typing.Any, V: dolfinx.fem.FunctionSpace, top_x: typing.Callable | None = None
+) -> list[dolfinx.fem.DirichletBC]:
+    """Rollers under the lower block, its corner (0, 0) pinned; the top's u_x if given."""
+    mesh, tags = part.mesh, part.facet_tags
+    fdim = mesh.topology.dim - 1
+    rollers = dolfinx.fem.locate_dofs_topological(V.sub(1), fdim, tags.find(1))
+    corner = dolfinx.mesh.locate_entities_boundary(
+        mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 0.0)
+    )
+    pin = dolfinx.fem.locate_dofs_topological(V.sub(0), 0, corner)
+    zero = dolfinx.default_scalar_type(0)
+    bcs = [dolfinx.fem.dirichletbc(zero, d, V.sub(c)) for c, d in ((1, rollers), (0, pin))]
+    if top_x is not None:
+        Vx, _ = V.sub(0).collapse()
+        g = dolfinx.fem.Function(Vx)
+        g.interpolate(top_x)
+        dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, tags.find(23))
+        bcs.append(dolfinx.fem.dirichletbc(g, dofs, V.sub(0)))
+    return bcs
+
+
+def patch_loads(
+    part: typing.Any, v: typing.Any, p: float, tau: float, top_shear: bool = True
+) -> typing.Any:
+    """Pressure p on the top, the shear tau on the sides and bottom (and top) of both."""
+    ds = ufl.Measure("ds", domain=part.mesh, subdomain_data=part.facet_tags)
+    L = -p * v[1] * ds(23) - tau * v[0] * ds(1)
+    L += tau * v[1] * (ds(2) + ds(22)) - tau * v[1] * (ds(4) + ds(24))
+    return L + tau * v[0] * ds(23) if top_shear else L
+
+
+def patch_exact(p: float, tau: float) -> typing.Callable:
+    """The uniform state's displacement, without the upper block's c."""
+    exx, eyy, gamma = NU * (1 + NU) * p / E, -(1 - NU**2) * p / E, tau / G
+    return lambda x: np.stack([exx * x[0] + gamma * x[1], eyy * x[1]])
+
+
+def patch_reference(
+    part: typing.Any, V: dolfinx.fem.FunctionSpace, exact: typing.Callable, c: float
+) -> dolfinx.fem.Function:
+    """The uniform state in V, c added to u_x on the upper block's cells (tag 2)."""
+    u = dolfinx.fem.Function(V)
+    u.interpolate(exact)
+    upper = np.unique(V.dofmap.list[part.cell_tags.find(2)])
+    u.x.array[2 * upper] += c
+    return u
+
+
+def _patch_record(comm, problem, pair, V, u, lam_n, lam_t, p, tau, reference, case, degree):
+    def owned_max(values):
+        return comm.allreduce(float(np.max(np.abs(values), initial=0.0)), op=MPI.MAX)
+
+    n = pair.Q.dofmap.index_map.size_local
+    last = problem.history.steps[-1].iterations[-1]
+    total = pair.Q.dofmap.index_map.size_global
+    return {
+        "scene": f"patch-{case}",
+        "degree": degree,
+        "lambda_n_error": owned_max(lam_n.x.array[:n] - p) / p,
+        "lambda_t_error": owned_max(lam_t.x.array[:n] - tau) / abs(tau),
+        "u_error": owned_max(u.x.array - reference.x.array) / owned_max(reference.x.array),
+        "converged": bool(problem.history.steps[-1].converged),
+        "multipliers": total,
+        "active": int(last.active[0]),
+        "stick": int(last.stick[0]),
+        "solves": problem.history.iterations,
+    }
+
+
+def patch_stick(comm: MPI.Comm, degree: int) -> dict[str, typing.Any]:
+    r"""Pressure :math:`p = 0.75`, shear :math:`\tau = 0.2 < \mu p` (:math:`\mu = 0.5`): all stick.
+
+    Returns:
+        A record: the relative max errors of :math:`\lambda_n`, :math:`\lambda_t`
+        (against :math:`p`, :math:`\tau`) and :math:`u`, the sets and solves.
+    """
+    part, V = patch_scene(degree, comm)
+    a, _, v = MATERIAL.forms(V)
+    p, tau, mu = 0.75, 0.2, 0.5
+    pair = patch_pair(part, V, degree)
+    with FrictionalContactProblem(
+        a, patch_loads(part, v, p, tau), [pair], patch_bcs(part, V), mu=mu,
+        petsc_options_prefix="fr_st_",
+    ) as problem:  # fmt: skip
+        (u,), (lam_n,), (lam_t,) = problem.solve()
+        reference = patch_reference(part, V, patch_exact(p, tau), 0.0)
+        return _patch_record(
+            comm, problem, pair, V, u, lam_n, lam_t, p, tau, reference, "stick", degree
+        )
+
+
+def patch_slip(comm: MPI.Comm, degree: int, direction: float = 1.0) -> dict[str, typing.Any]:
+    r"""The top moved by :math:`0.2\,\mathrm{direction}` with :math:`\mu = 0.3`: all slip.
+
+    Returns:
+        As :func:`patch_stick`, :math:`\lambda_t` against :math:`\mu p\,\mathrm{direction}`.
+    """
+    part, V = patch_scene(degree, comm)
+    a, _, v = MATERIAL.forms(V)
+    p, mu, d = 0.75, 0.3, 0.2 * direction
+    tau = mu * p * direction
+    exact = patch_exact(p, tau)
+    pair = patch_pair(part, V, degree)
+    bcs = patch_bcs(part, V, lambda x: exact(x)[0] + d)
+    with FrictionalContactProblem(
+        a, patch_loads(part, v, p, tau, top_shear=False), [pair], bcs, mu=mu,
+        petsc_options_prefix="fr_sl_",
+    ) as problem:  # fmt: skip
+        (u,), (lam_n,), (lam_t,) = problem.solve()
+        reference = patch_reference(part, V, exact, d)
+        return _patch_record(
+            comm, problem, pair, V, u, lam_n, lam_t, p, tau, reference, "slip", degree
+        )
