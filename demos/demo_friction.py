@@ -1,0 +1,232 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: light
+# ---
+
+# # Coulomb friction in 2D: Cattaneo-Mindlin, an inclined block, the patch tests
+#
+# `FrictionalContactProblem` (in `dolfinx_contact_s2s.friction`) adds to the mortar
+# contact of Eq. (1) a tangential multiplier $\lambda_t$ in the same space as the
+# normal one $\lambda_n$, and Coulomb's law at every multiplier node: $|\lambda_t| \le
+# \mu\lambda_n$, stick (no weighted slip increment) where $|\lambda_t| < \mu\lambda_n$,
+# slip against the increment where $|\lambda_t| = \mu\lambda_n$. The slip increment of
+# a load step is measured from the previous step's solution, so the answer depends on
+# the load path. $\lambda_n$ is the contact pressure and $\lambda_t$ the shear traction
+# itself: everything below is read from them.
+#
+# **Cattaneo-Mindlin.** Two identical half cylinders ($R = 1$, $E = 1$, $\nu = 0.3$,
+# plane strain; `paper.hertz.scene.hertz` with `lower_radius=R`, graded for $a = 0.05$
+# with about $n$ elements across $2a$): the upper flat face is moved down in four
+# frictionless steps (Hertz: $a = 2\sqrt{P R_e/(\pi E^*)}$, $p_0 = 2P/(\pi a)$, $R_e =
+# R/2$, $E^* = E/(2(1-\nu^2))$), then sideways in four steps with $\mu = 0.2$. Identical
+# bodies decouple the normal and tangential problems, and the shear for $Q < \mu P$ is
+#
+# $$q(x) = \frac{\mu p_0}{a}\left[\sqrt{a^2 - x^2} - \sqrt{c^2 - x^2}\right] \text{ for
+# } |x| < c, \qquad \mu p(x) \text{ for } c < |x| < a, \qquad c = a\sqrt{1 -
+# Q/(\mu P)},$$
+#
+# with $P$ and $Q$ the integrals of $\lambda_n$ and $\lambda_t$. The measured $c$ is
+# the largest $|x|$ of a sticking multiplier node; the L2 errors of $q$ and $p$ are
+# relative, over $[-a, a]$, of the nodal values interpolated linearly.
+#
+# **Inclined block.** A block pressed onto a wedge of slope $\tan\alpha = 0.1$ and
+# pushed up it, all of it sliding with $\mu = 0.5$: the push's reaction over the
+# vertical load is $(\mu + \tan\alpha)/(1 - \mu\tan\alpha) = 0.6316$.
+#
+# **Frictional patch tests.** Two non-matching blocks (7/5 elements) in a uniform
+# stress: a shear $\tau = 0.2 < \mu p$ ($p = 0.75$, $\mu = 0.5$) sticks everywhere with
+# $\lambda_t = \tau$; the top moved beyond the stick limit ($\mu = 0.3$) slips everywhere
+# with $\lambda_t = \pm\mu p$.
+#
+# Checked (the bounds): $c$ within one element, $q$ within 5% relative L2 for
+# P2, the inclined block's ratio to $10^{-8}$, the patch tests to $10^{-10}$ relative;
+# the exit status is non-zero if one fails. It writes `results/friction.json`,
+# `results/friction.png` and the section "friction" of `results/report.md`. Run it as
+# `python3 demos/demo_friction.py` or `mpirun -n 2 python3 demos/demo_friction.py`;
+# `--smoke` runs Cattaneo-Mindlin at 20 elements only.
+
+# +
+from mpi4py import MPI
+
+import numpy as np
+
+from paper.friction import (
+    CM_MU,
+    cattaneo_mindlin,
+    cattaneo_mindlin_shear,
+    inclined_block,
+    patch_slip,
+    patch_stick,
+)
+from paper.records import merge_rank_records
+from paper.report import demo_parser, output_folder, rank0_print, write_section
+
+args = demo_parser(
+    "Coulomb friction in 2D: Cattaneo-Mindlin, inclined block, patch tests",
+    "Cattaneo-Mindlin at 20 elements across only",
+).parse_args()
+comm = MPI.COMM_WORLD
+out = output_folder(args.out, comm)
+log = rank0_print(comm)
+ACROSS = (20,) if args.smoke else (20, 40, 80)
+PATCH_BOUND, INCLINE_BOUND, Q_BOUND = 1e-10, 1e-8, 0.05
+records, failed = [], []
+# -
+
+# ## Cattaneo-Mindlin
+
+# +
+traction = None
+for degree in (1, 2):
+    for across in ACROSS:
+        rec = cattaneo_mindlin(comm, degree, across, keep_traction=True)
+        x, q, p = rec.pop("x"), rec.pop("q"), rec.pop("p")
+        if degree == 2 and across == ACROSS[-1]:
+            traction = rec, x, q, p
+        rec["ranks"] = comm.size
+        records.append(rec)
+        log(
+            f"P{degree} n = {across:3d}: c {rec['c']:.5f} exact {rec['c_exact']:.5f} "
+            f"({rec['c_error_elements']:.2f} elements, {rec['c_error']:.2%}), "
+            f"L2 q {rec['q_L2_error']:.2%}, p {rec['p_L2_error']:.2%}, Q/(mu P) "
+            f"{rec['Q_over_muP']:.3f}; solves per step {rec['solves_per_step']}, "
+            f"{rec['unknowns']} unknowns, {rec['seconds']:.1f} s"
+        )
+        if rec["c_error_elements"] > 1.0:
+            failed.append(f"P{degree} n = {across}: c off by {rec['c_error_elements']:.2f} h")
+        if degree == 2 and rec["q_L2_error"] > Q_BOUND:
+            failed.append(f"P2 n = {across}: q off by {rec['q_L2_error']:.2%} (L2)")
+# -
+
+# ## The inclined block and the frictional patch tests
+
+# +
+checks = []
+for degree in (1, 2):
+    rec = inclined_block(comm, degree)
+    checks.append(rec)
+    log(f"inclined block P{degree}: ratio {rec['ratio']:.10f}, error {rec['error']:.1e}")
+    if rec["error"] > INCLINE_BOUND or not rec["sliding"]:
+        failed.append(f"inclined block P{degree}: {rec}")
+    for case, run in (
+        ("stick", lambda d: patch_stick(comm, d)),
+        ("slip +", lambda d: patch_slip(comm, d, 1.0)),
+        ("slip -", lambda d: patch_slip(comm, d, -1.0)),
+    ):
+        rec = run(degree)
+        rec["scene"] = f"patch-{case.replace(' +', '').replace(' -', '-reverse')}"
+        checks.append(rec)
+        errors = max(rec["lambda_n_error"], rec["lambda_t_error"], rec["u_error"])
+        expected_stick = rec["multipliers"] if case == "stick" else 0
+        log(
+            f"patch {case} P{degree}: lambda_n {rec['lambda_n_error']:.1e}, lambda_t "
+            f"{rec['lambda_t_error']:.1e}, u {rec['u_error']:.1e}; active {rec['active']}/"
+            f"{rec['multipliers']}, stick {rec['stick']}, {rec['solves']} solves"
+        )
+        sets = rec["active"] == rec["multipliers"] and rec["stick"] == expected_stick
+        if errors > PATCH_BOUND or not sets or not rec["converged"]:
+            failed.append(f"patch {case} P{degree}: {rec}")
+for rec in checks:
+    rec["ranks"] = comm.size
+records += checks
+# -
+
+# ## Results
+
+# +
+if comm.rank == 0:
+    merged = merge_rank_records(out / "friction.json", records, comm.size)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rec, x, q, p = traction
+    a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
+    s = np.linspace(-1.3 * a, 1.3 * a, 801)
+    hertz = CM_MU * p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(s / a, hertz / (CM_MU * p0), "k--", lw=0.8, label=r"$\mu p(x)$ (Hertz)")
+    ax.plot(
+        s / a,
+        cattaneo_mindlin_shear(s, a, c, p0) / (CM_MU * p0),
+        "k-",
+        lw=0.8,
+        label="q(x) (Cattaneo-Mindlin)",
+    )
+    keep = np.abs(x) < 1.3 * a
+    ax.plot(
+        x[keep] / a, CM_MU * p[keep] / (CM_MU * p0), "s", ms=3, mfc="none", label=r"$\mu\lambda_n$"
+    )
+    ax.plot(x[keep] / a, q[keep] / (CM_MU * p0), "o", ms=3, label=r"$\lambda_t$")
+    for side in (-1, 1):
+        ax.axvline(side * c / a, color="0.6", lw=0.6)
+    ax.set_xlabel("x / a")
+    ax.set_ylabel(r"traction / ($\mu p_0$)")
+    ax.set_title(f"Cattaneo-Mindlin, P2, {rec['across']} elements across 2a, c/a = {c / a:.3f}")
+    ax.legend(loc="lower center", fontsize="small")
+    fig.tight_layout()
+    fig.savefig(out / "friction.png", dpi=120)
+
+    def cm_row(r):
+        return (
+            f"| P{r['degree']} | {r['across']} | {r['c']:.5f} | {r['c_exact']:.5f} | "
+            f"{r['c_error_elements']:.2f} | {r['c_error']:.2%} | {r['q_L2_error']:.2%} | "
+            f"{r['p_L2_error']:.2%} | {' '.join(map(str, r['solves_per_step']))} | "
+            f"{r['unknowns']} | {r['seconds']:.1f} |"
+        )
+
+    def patch_row(r):
+        return (
+            f"| {r['scene']} | P{r['degree']} | {r['lambda_n_error']:.1e} | "
+            f"{r['lambda_t_error']:.1e} | {r['u_error']:.1e} | {r['active']}/"
+            f"{r['multipliers']} | {r['stick']} | {r['solves']} |"
+        )
+
+    mine = [r for r in merged if r["ranks"] == comm.size]
+    lines = [
+        "## Coulomb friction in 2D",
+        "",
+        f"`demos/demo_friction.py`, {comm.size} rank(s)"
+        + (" (smoke run)" if args.smoke else "")
+        + ": "
+        + ("all checks met." if not failed else "FAILED: " + "; ".join(failed)),
+        "",
+        "Cattaneo-Mindlin (two half cylinders R = 1, a ≈ 0.05, μ = 0.2, Q/(μP) ≈ 0.5; "
+        "n elements across 2a; c: the outermost sticking node; errors relative L2 over "
+        "[-a, a]; solves per load step: 4 frictionless normal steps, then 4 tangential):",
+        "",
+        "| P | n | c | c exact | error (h) | error | L2(q) | L2(p) | solves per step | "
+        "unknowns | s |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|",
+        *[cm_row(r) for r in mine if r["scene"] == "cattaneo-mindlin"],
+        "",
+        "![Cattaneo-Mindlin](friction.png)",
+        "",
+        "Inclined block (tan(alpha) = 0.1, μ = 0.5, all sliding), push reaction / vertical load:",
+        "",
+        "| P | ratio | exact | relative error | solves |",
+        "|---|---:|---:|---:|---:|",
+        *[
+            f"| P{r['degree']} | {r['ratio']:.10f} | {r['expected']:.10f} | "
+            f"{r['error']:.1e} | {r['solves']} |"
+            for r in mine
+            if r["scene"] == "inclined-block"
+        ],
+        "",
+        "Frictional patch tests (7/5 non-matching blocks; max relative errors):",
+        "",
+        "| case | P | λn | λt | u | active | stick | solves |",
+        "|---|---|---:|---:|---:|---|---:|---:|",
+        *[patch_row(r) for r in mine if r["scene"].startswith("patch")],
+    ]
+    write_section(out / "report.md", "friction", lines)
+if failed:
+    raise SystemExit("friction: " + "; ".join(failed))
+# -
