@@ -345,10 +345,10 @@ def patch_stick(comm: MPI.Comm, degree: int) -> dict[str, typing.Any]:
     a, _, v = MATERIAL.forms(V)
     p, tau, mu = 0.75, 0.2, 0.5
     pair = patch_pair(part, V, degree)
+    L, bcs = patch_loads(part, v, p, tau), patch_bcs(part, V)
     with FrictionalContactProblem(
-        a, patch_loads(part, v, p, tau), [pair], patch_bcs(part, V), mu=mu,
-        petsc_options_prefix="fr_st_",
-    ) as problem:  # fmt: skip
+        a, L, [pair], bcs, mu=mu, petsc_options_prefix="fr_st_"
+    ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
         reference = patch_reference(part, V, patch_exact(p, tau), 0.0)
         return _patch_record(
@@ -369,10 +369,10 @@ def patch_slip(comm: MPI.Comm, degree: int, direction: float = 1.0) -> dict[str,
     exact = patch_exact(p, tau)
     pair = patch_pair(part, V, degree)
     bcs = patch_bcs(part, V, lambda x: exact(x)[0] + d)
+    L = patch_loads(part, v, p, tau, top_shear=False)
     with FrictionalContactProblem(
-        a, patch_loads(part, v, p, tau, top_shear=False), [pair], bcs, mu=mu,
-        petsc_options_prefix="fr_sl_",
-    ) as problem:  # fmt: skip
+        a, L, [pair], bcs, mu=mu, petsc_options_prefix="fr_sl_"
+    ) as problem:
         (u,), (lam_n,), (lam_t,) = problem.solve()
         reference = patch_reference(part, V, exact, d)
         return _patch_record(
