@@ -201,7 +201,9 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
     return np.concatenate(comm.allgather(mine)).astype(np.int64)
 
 
-def assemble_coupling(pair: ContactPair, tangential: bool = False) -> CouplingOperator:
+def assemble_coupling(
+    pair: ContactPair, tangential: int = 0, axis: npt.ArrayLike | None = None
+) -> CouplingOperator:
     r"""Assemble the coupling of a contact pair with global indices (collective).
 
     The rows are the multiplier dofs of ``pair.Q``; there is one matrix per distinct
@@ -210,8 +212,10 @@ def assemble_coupling(pair: ContactPair, tangential: bool = False) -> CouplingOp
 
     Args:
         pair: The contact pair.
-        tangential: The tangential coupling of friction instead (2D,
-            :meth:`~dolfinx_contact_s2s.pair.ContactPair.coupling_blocks`), with a zero gap.
+        tangential: The tangential coupling of friction instead, with a zero gap: its
+            tangent 1 (2D), 1 or 2 (3D) of
+            :meth:`~dolfinx_contact_s2s.pair.ContactPair.coupling_blocks`.
+        axis: The axis of the tangent basis on faces.
 
     Returns:
         The :class:`CouplingOperator`. The caller must ``destroy()`` it.
@@ -219,7 +223,13 @@ def assemble_coupling(pair: ContactPair, tangential: bool = False) -> CouplingOp
     Raises:
         ValueError: On every rank, if the contactor faces none of its targets.
     """
-    groups = pair.coupling_blocks(tangential)
+    faces = pair.contactor.facet_dim == 2
+    if tangential and (pair.obstacles or tangential > 1 + faces or (faces and axis is None)):
+        raise ValueError("tangential coupling: meshed targets, T (2D), T1, T2 of an axis (3D)")
+    tangent = (
+        (None if axis is None else np.asarray(axis, float), tangential) if tangential else None
+    )
+    groups = pair.coupling_blocks(tangent)
     comm = pair.contactor.comm
     backend = pair.contactor.backend
     if comm.allreduce(sum(b.rows.shape[0] for b in groups), op=MPI.SUM) == 0:

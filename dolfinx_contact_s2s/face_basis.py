@@ -114,7 +114,9 @@ def face_basis(surface, data, groups, nq, xi):
     return phi, _face_dofs(surface, data, groups, basis, lf)
 
 
-def face_blocks(multiplier, contactor, C, target, T, groups) -> tuple[npt.NDArray, ...]:
+def face_blocks(
+    multiplier, contactor, C, target, T, groups, tangent=None
+) -> tuple[npt.NDArray, ...]:
     """The local blocks of Eqs. (40)-(42) on faces, by the kernels' ``face_coupling``.
 
     Args:
@@ -124,6 +126,7 @@ def face_blocks(multiplier, contactor, C, target, T, groups) -> tuple[npt.NDArra
         target: The target surface.
         T: The target data cut against.
         groups: The :class:`~dolfinx_contact_s2s.discretizations.PointGroups`.
+        tangent: ``(axis, which)`` for friction's tangential coupling (``face_coupling``).
 
     Returns:
         ``(rows, dofs_c, b_c, dofs_t, b_t, gap, coverage)``, the fields of
@@ -146,6 +149,7 @@ def face_blocks(multiplier, contactor, C, target, T, groups) -> tuple[npt.NDArra
             (mu, *((b.coef, lf) for b, lf in zip(bases, lfs, strict=True))),
             square=True,
             zero_below=ROUNDOFF,
+            tangent=tangent,
         )
     dofs = [
         _face_dofs(surface, data, rows[first], basis, lf[first])

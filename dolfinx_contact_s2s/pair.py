@@ -354,12 +354,13 @@ class ContactPair:
             ]
         )
 
-    def coupling_blocks(self, tangential: bool = False) -> list[CouplingBlocks]:
+    def coupling_blocks(self, tangent: tuple | None = None) -> list[CouplingBlocks]:
         r"""Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40), per target.
 
-        With ``tangential`` (2D, meshed targets), the same rule with the contactor's
-        tangent :math:`\mathbf T = (-n_{C,y}, n_{C,x})` in place of :math:`\mathbf N`
-        and no gap: the weighted tangential displacements of friction.
+        With ``tangent`` ``(axis, which)`` (meshed targets), a tangent in place of
+        :math:`\mathbf N` and no gap: friction's weighted tangential displacements. In 2D
+        the contactor's :math:`\mathbf T = (-n_{C,y}, n_{C,x})`; on faces :math:`\mathbf
+        T_1` or :math:`\mathbf T_2` (1, 2) of :func:`~.kernels.face_backend.tangents`.
 
         Returns:
             One :class:`CouplingBlocks` per target, in the order of :attr:`targets`, then
@@ -376,25 +377,23 @@ class ContactPair:
                     f"the mesh of contact surface {surface.tag} moved after the surface was "
                     "created: create the contact surfaces and pairs again after moving a mesh"
                 )
-        if tangential and (self.obstacles or self.contactor.facet_dim != 1):
-            raise NotImplementedError("tangential coupling: 2D, meshed targets only")
         blocks = [o.coupling_blocks(self) for o in self.obstacles]
         if not self.targets:
             return blocks
         gathered = self.discretization.gathered(self)
         groups = self.discretization.points(self, gathered)
         return [
-            self._integrate(t, T, g, tangential)
+            self._integrate(t, T, g, tangent)
             for t, T, g in zip(self.targets, gathered, groups, strict=True)
         ] + blocks
 
     def _integrate(
-        self, ts: ContactSurface, T: SurfaceData, g: PointGroups, tangential: bool = False
+        self, ts: ContactSurface, T: SurfaceData, g: PointGroups, tangent: tuple | None = None
     ) -> CouplingBlocks:
         """The blocks of Eqs. (40)-(42) at the points ``g`` against target ``ts``."""
         cs, C = self.contactor, self.contactor.data
         if self.multiplier.corners is not None and not self.axisymmetric:
-            return CouplingBlocks(ts, *face_blocks(self.multiplier, cs, C, ts, T, g))
+            return CouplingBlocks(ts, *face_blocks(self.multiplier, cs, C, ts, T, g, tangent))
         S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
         rows_t = np.repeat(g.target, nq)
@@ -420,7 +419,7 @@ class ContactPair:
         mu = self.multiplier.basis(rows_c, xi, kernels)
         mu = mu.reshape(S, nq, mu.shape[1])
         gdim = normals.shape[1]
-        if tangential:  # T = (N_y, -N_x), the contactor's counterclockwise tangent
+        if tangent is not None:  # T = (N_y, -N_x), the contactor's counterclockwise tangent
             normals, gaps = np.stack([normals[:, 1], -normals[:, 0]], axis=1), 0.0 * gaps
         phi_c, dofs_c = face_basis(cs, C, g.contactor, nq, xi)
         phi_t, dofs_t = face_basis(ts, T, g.target, nq, eta)

@@ -176,9 +176,13 @@ def test_box_overlaps_agree(face_c):
     assert ref[0].size == np.count_nonzero(brute)
 
 
+@pytest.mark.parametrize("tangent", [None, 1, 2])
 @pytest.mark.parametrize("num_nodes", [(3, 4), (4, 3), (6, 9), (9, 6)])
-def test_face_coupling_agrees_with_the_reference(face_c, num_nodes):
-    """The fused blocks, C against NumPy, with runs of groups on one pair of faces summed."""
+def test_face_coupling_agrees_with_the_reference(face_c, num_nodes, tangent):
+    """The fused blocks, C against NumPy, with runs of groups on one pair of faces summed.
+
+    Also friction's tangential blocks (``tangent``: the direction T1 or T2 of an axis).
+    """
     rng = np.random.default_rng(30 + sum(num_nodes))
     c, co, t, _ = facing_faces(*num_nodes, rng)
     S, Q = 40, 6
@@ -192,8 +196,11 @@ def test_face_coupling_agrees_with_the_reference(face_c, num_nodes):
     ]
     tables[0] = (tables[0][0], rows_c)
     args = (c, co, t, (rows_c, rows_t), xi, weights, tables)
-    ref = face_backend.face_coupling(*args, zero_below=1e-12)
-    out = face_c.face_coupling(*args, zero_below=1e-12)
+    direction = None if tangent is None else (np.array([0.3, -0.8, 0.5]), tangent)
+    ref = face_backend.face_coupling(*args, zero_below=1e-12, tangent=direction)
+    out = face_c.face_coupling(*args, zero_below=1e-12, tangent=direction)
+    if tangent is not None:
+        assert np.all(ref[2] == 0.0)  # no gap in the tangential coupling
     np.testing.assert_array_equal(out[4], ref[4])
     assert ref[4].size < S  # some runs were summed
     for a, b in zip(out[:4], ref[:4], strict=True):

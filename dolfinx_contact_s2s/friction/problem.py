@@ -1,6 +1,6 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""Frictional contact (Coulomb) with Lagrange multipliers, in 2D, over load steps.
+r"""Frictional contact (Coulomb) with Lagrange multipliers, in 2D and 3D, over load steps.
 
 :class:`FrictionalContactProblem` holds a
 :class:`~dolfinx_contact_s2s.system.ContactSystem` (through
@@ -20,6 +20,7 @@ from collections.abc import Callable, Sequence
 
 import dolfinx
 import numpy as np
+import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s import checks, system_checks
@@ -40,8 +41,8 @@ def _check(mu: float, pairs: Sequence[ContactPair], name: str = "friction coeffi
     if not (isinstance(mu, (int, float, np.floating)) and np.isfinite(mu) and mu >= 0):
         return f"the {name} must be a finite number >= 0, not {mu!r}"
     for pair in pairs:
-        if pair.contactor.facet_dim != 1 or pair.axisymmetric:
-            return "friction is implemented for plane (2D, not axisymmetric) models only"
+        if pair.axisymmetric:
+            return "friction is implemented for plane (2D) and 3D models, not axisymmetric ones"
         if pair.obstacles or any(getattr(t, "rigid", False) for t in pair.targets):
             return "friction is implemented against meshed deformable targets only"
     try:
@@ -52,28 +53,33 @@ def _check(mu: float, pairs: Sequence[ContactPair], name: str = "friction coeffi
 
 
 class FrictionalContactProblem(ContactProblemBase):
-    r"""Linear elastic bodies in unilateral contact with Coulomb friction (2D).
+    r"""Linear elastic bodies in unilateral contact with Coulomb friction (2D and 3D).
 
     The conditions of Eq. (1) on the weighted gaps :math:`\tilde g` (Eq. 17), and per
     multiplier node Coulomb's law on the weighted tangential slip increments
     :math:`\tilde s` of each load step (Eq. 40 with the contactor's tangent
-    :math:`\mathbf T = (-n_{C,y}, n_{C,x})` in place of :math:`\mathbf N`, measured from
+    :math:`\mathbf T = (-n_{C,y}, n_{C,x})` in place of :math:`\mathbf N`, in 3D the
+    orthonormal tangents :math:`\mathbf T_1 = \mathbf a \times \mathbf N / |\mathbf a
+    \times \mathbf N|`, :math:`\mathbf T_2 = \mathbf N \times \mathbf T_1`, measured from
     the previous step's solution, so that the answer depends on the load path):
     :math:`|\lambda_t| \le \mu \lambda_n`, :math:`\tilde s = 0` where
     :math:`|\lambda_t| < \mu \lambda_n`, :math:`\lambda_t = \mu \lambda_n \tilde s /
     |\tilde s|` where it slips (:mod:`~dolfinx_contact_s2s.friction.coulomb`).
     :math:`\lambda_n` is the contact pressure, :math:`\lambda_t` the shear the contactor
-    exerts on the target along :math:`\mathbf T` (in the multiplier space of
-    :math:`\lambda_n`). Every iteration is one (unsymmetric) saddle-point solve with
+    exerts on the target along :math:`\mathbf T` (in 3D its components along
+    :math:`\mathbf T_1, \mathbf T_2`; in the multiplier space of :math:`\lambda_n`). The
+    answer does not depend on the axis :math:`\mathbf a` (``tangent_axis``), only the
+    components of :math:`\lambda_t` do. Every iteration is one (unsymmetric) saddle-point solve with
     the inactive, stick and slip sets of the previous one; a load step ends when the
     sets and slip directions repeat and both complementarity residuals are below
     ``tolerance``.
 
     After :meth:`solve`: :attr:`u`, :attr:`multipliers` (:math:`\lambda_n`),
-    :attr:`tangential` (:math:`\lambda_t`), :attr:`active`, :attr:`stick` (1 on the
-    sticking multipliers) and :attr:`history` (its iterations count the active and
-    sticking multipliers of every pair). A load step that does not converge within
-    ``max_iterations`` raises
+    :attr:`tangential` (:math:`\lambda_t`; in 3D two per pair, along :math:`\mathbf T_1`
+    and :math:`\mathbf T_2` of the axes :attr:`tangent_axes`), :attr:`active`,
+    :attr:`stick` (1 on the sticking multipliers) and :attr:`history` (its iterations
+    count the active and sticking multipliers of every pair). A load step that does not
+    converge within ``max_iterations`` raises
     :class:`~dolfinx_contact_s2s.unilateral.ContactConvergenceError` on every process,
     with the sets of every iteration.
     """
@@ -87,6 +93,7 @@ class FrictionalContactProblem(ContactProblemBase):
         *,
         mu: float,
         slip_bound: float | None = None,
+        tangent_axis: npt.ArrayLike | None = None,
         start: str = "nearest",
         penalty: float = 1.0,
         max_iterations: int = 50,
@@ -99,11 +106,14 @@ class FrictionalContactProblem(ContactProblemBase):
         Args:
             a: Bilinear form of each displacement space.
             L: Linear form of each displacement space.
-            pairs: Contact pairs (2D, meshed deformable targets).
+            pairs: Contact pairs (2D or 3D, meshed deformable targets).
             bcs: Dirichlet conditions.
             mu: Coulomb's friction coefficient :math:`\mu \ge 0`.
             slip_bound: Tresca's law instead: the given bound :math:`g \ge 0` of
                 :math:`|\lambda_t|` (a shear stress) in place of :math:`\mu \lambda_n`.
+            tangent_axis: In 3D, the axis :math:`\mathbf a` of the tangent basis (default:
+                the Cartesian axis least aligned with each contactor's mean normal,
+                :func:`~dolfinx_contact_s2s.friction.coulomb.tangent_axis`).
             start: First active set, one of
                 :data:`~dolfinx_contact_s2s.unilateral.STARTS`; it sticks.
             penalty: Factor :math:`\kappa` of the complementarity parameters
@@ -117,7 +127,8 @@ class FrictionalContactProblem(ContactProblemBase):
 
         Raises:
             ValueError: On every rank, for :math:`\mu` negative, NaN or infinite, a bad
-                parameter, ``kind="nest"``, or a 3D, axisymmetric or rigid-target pair.
+                parameter, ``kind="nest"``, an axisymmetric or rigid-target pair, or a
+                tangent basis that degenerates on a contact surface.
         """
         if options.get("kind", "aij") != "aij":
             raise ValueError("friction needs kind='aij' (an unsymmetric system, factorized)")
@@ -138,10 +149,11 @@ class FrictionalContactProblem(ContactProblemBase):
         if problems:
             self.destroy()
             raise ValueError(problems[0])
-        self.mu, self.slip_bound = float(mu), slip_bound
+        self.mu, self.slip_bound, self.tangent_axis = float(mu), slip_bound, tangent_axis
         self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
         self.stick = [dolfinx.fem.Function(p.Q, name=f"stick{j}") for j, p in enumerate(pairs)]
         self.tangential: list[dolfinx.fem.Function] = []
+        self.tangent_axes: list[npt.NDArray[np.float64] | None] = []
         self.history = ContactHistory("coulomb")
 
     def solver_defaults(self) -> dict[str, typing.Any]:
@@ -161,8 +173,9 @@ class FrictionalContactProblem(ContactProblemBase):
             if old is not None:
                 old.destroy()
         self._complementarity = Complementarity(system, self.penalty, self.tolerance)
-        self._friction = CoulombFriction(system, self.mu, self.slip_bound)
+        self._friction = CoulombFriction(system, self.mu, self.slip_bound, self.tangent_axis)
         self.tangential = self._friction.multipliers
+        self.tangent_axes = self._friction.axes
         if check:
             held = self.mu > 0 or bool(self.slip_bound)
             ops = system.operators + (self._friction.operators if held else [])

@@ -304,6 +304,25 @@ static void s2s_monomial_values(const double *coef, int M, int N, const double *
   }
 }
 
+/* Friction's tangent at the unit normal n (face_backend.tangents): t = axis x n
+ * normalized, then n x t for which = 2. */
+static void s2s_tangent(const double *axis, const double *n, int which, double *t)
+{
+  t[0] = axis[1] * n[2] - axis[2] * n[1];
+  t[1] = axis[2] * n[0] - axis[0] * n[2];
+  t[2] = axis[0] * n[1] - axis[1] * n[0];
+  const double length = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  for (int d = 0; d < 3; ++d)
+    t[d] /= length;
+  if (which == 2)
+  {
+    const double a[3] = {t[0], t[1], t[2]};
+    t[0] = n[1] * a[2] - n[2] * a[1];
+    t[1] = n[2] * a[0] - n[0] * a[2];
+    t[2] = n[0] * a[1] - n[1] * a[0];
+  }
+}
+
 /* The local blocks of Eqs. (40)-(42) on faces, every step per point (face_backend.
  * face_coupling, the reference): the contact normal N = -n_C at the contactor point
  * xi, the target point met along it (Newton, Eq. 38; eta clipped to [0, 1]), the gap,
@@ -311,8 +330,10 @@ static void s2s_monomial_values(const double *coef, int M, int N, const double *
  * eta) and the sums of s2s_segment_to_segment, with the coverage sum w mu (or mu^2).
  * Coordinates relative to the contactor face's node 0, as the reference shifts them.
  * Consecutive groups on the same pair of faces are summed into one block (face_backend.
- * runs gives their number and first groups). ok[s * Q + q] = 0 where
- * Newton's method failed (the blocks then hold NaN). */
+ * runs gives their number and first groups). With which = 1 or 2, friction's tangent
+ * (face_backend.tangents: T1 = axis x N / |axis x N|, T2 = N x T1) in place of N in the
+ * blocks, and a zero gap. ok[s * Q + q] = 0 where Newton's method failed (the blocks
+ * then hold NaN). */
 void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
                        const double *t_nodes, int Kt, const int32_t *rows_c,
                        const int32_t *rows_t, const double *xi, const double *weights, int S,
@@ -320,8 +341,8 @@ void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientatio
                        const double *c_coef, int Mc, int nc, const int32_t *c_index,
                        const double *t_coef, int Mt, int nt, const int32_t *t_index,
                        int square, int iterations, double tol, double round_off,
-                       double zero_below, double *b_c, double *b_t, double *g,
-                       double *coverage, int8_t *ok)
+                       double zero_below, const double *axis, int which, double *b_c,
+                       double *b_t, double *g, double *coverage, int8_t *ok)
 {
   int B = -1;
   for (int s = 0; s < S; ++s)
@@ -377,7 +398,13 @@ void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientatio
       for (int d = 0; d < 2; ++d)
         eta[d] = eta[d] < 0.0 ? 0.0 : (eta[d] > 1.0 ? 1.0 : eta[d]);
       s2s_face_point(tl, Kt, eta, xt, NULL);
-      const double gap = (xc[0] - xt[0]) * n[0] + (xc[1] - xt[1]) * n[1] + (xc[2] - xt[2]) * n[2];
+      double gap = (xc[0] - xt[0]) * n[0] + (xc[1] - xt[1]) * n[1] + (xc[2] - xt[2]) * n[2];
+      double dir[3] = {n[0], n[1], n[2]};
+      if (which > 0)
+      {
+        s2s_tangent(axis, n, which, dir);
+        gap = 0.0;
+      }
       double mono[16], mono_t[16];
       s2s_monomials(Mm, x[0], x[1], mono);
       s2s_monomial_values(mcoef, Mm, nk, mono, 0.0, mu);
@@ -394,10 +421,10 @@ void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientatio
         cv[k] += (square ? mu[k] * mu[k] : mu[k]) * w;
         for (int j = 0; j < nc; ++j)
           for (int d = 0; d < 3; ++d)
-            bc[(k * nc + j) * 3 + d] += wm * pc[j] * n[d];
+            bc[(k * nc + j) * 3 + d] += wm * pc[j] * dir[d];
         for (int j = 0; j < nt; ++j)
           for (int d = 0; d < 3; ++d)
-            bt[(k * nt + j) * 3 + d] -= wm * pt[j] * n[d];
+            bt[(k * nt + j) * 3 + d] -= wm * pt[j] * dir[d];
       }
     }
   }

@@ -105,8 +105,8 @@ void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientatio
                        const double *c_coef, int Mc, int nc, const int32_t *c_index,
                        const double *t_coef, int Mt, int nt, const int32_t *t_index,
                        int square, int iterations, double tol, double round_off,
-                       double zero_below, double *b_c, double *b_t, double *g,
-                       double *coverage, int8_t *ok);
+                       double zero_below, const double *axis, int which, double *b_c,
+                       double *b_t, double *g, double *coverage, int8_t *ok);
 void s2s_face_piece_gaps(const double *c_nodes, int Kc, const double *c_orientation,
                          const double *t_nodes, int Kt, const int32_t *rows_c,
                          const int32_t *rows_t, const double *triangles, const double *origin,

@@ -52,6 +52,7 @@ __all__ = [
     "runs",
     "segment_to_segment",
     "shift",
+    "tangents",
     "triangulate_polygons",
 ]
 
@@ -112,6 +113,18 @@ def outward_normals(coefficients: _Array, orientation: _Array, rows: _Rows, xi: 
     n = np.cross(dx[:, :, 0], dx[:, :, 1])
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     return orientation[rows, None] * n
+
+
+def tangents(normals: _Array, axis: _Array, which: int) -> _Array:
+    r"""The tangent basis of friction at unit normals :math:`N` ``(P, 3)``, from an axis :math:`a`.
+
+    :math:`T_1 = a \times N / |a \times N|` (``which = 1``) and :math:`T_2 = N \times T_1`
+    (``which = 2``): with :math:`N`, a right-handed orthonormal frame at every point,
+    smooth where :math:`N` is, and the same on every face of a flat surface.
+    """
+    t = np.cross(np.asarray(axis, dtype=np.float64), normals)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    return t if which == 1 else np.cross(normals, t)
 
 
 def intersect(
@@ -290,6 +303,7 @@ def face_coupling(
     zero_below: float = 0.0,
     iterations: int = 16,
     tol: float = NEWTON_TOL,
+    tangent: tuple[_Array, int] | None = None,
 ) -> tuple[_Array, ...]:
     r"""The local blocks of Eqs. (40)-(42) on faces, from the points of each group.
 
@@ -311,6 +325,8 @@ def face_coupling(
         zero_below: The displacement bases' values set to zero below it.
         iterations: Newton iterations at most.
         tol: Relative Newton stopping test.
+        tangent: ``(axis, which)``: the tangent :func:`tangents` in place of :math:`N` in
+            the blocks, and a zero gap (friction's tangential coupling).
 
     Returns:
         ``(B_C, B_T, G, coverage, first)``: the blocks of :func:`segment_to_segment` and
@@ -335,6 +351,8 @@ def face_coupling(
     np.clip(eta, 0.0, 1.0, out=eta)
     x_t, _ = evaluate(t_local, local, eta)
     gaps = np.einsum("pg,pg->p", x_c - x_t, normals)
+    if tangent is not None:
+        normals, gaps = tangents(normals, *tangent), np.zeros_like(gaps)
     (m_coef, m_index), (c_coef, c_index), (t_coef, t_index) = bases
     mu = monomial_values(m_coef, np.repeat(m_index, Q), x).reshape(S, Q, -1)
     phi_c = monomial_values(c_coef, np.repeat(c_index, Q), x, zero_below)

@@ -38,6 +38,7 @@ from dolfinx_contact_s2s.kernels.face_backend import (
     monomials,
     runs,
     shift,
+    tangents,
 )
 from dolfinx_contact_s2s.kernels.numpy_backend import NEWTON_TOL, ROUND_OFF
 
@@ -62,6 +63,7 @@ __all__ = [
     "runs",
     "segment_to_segment",
     "shift",
+    "tangents",
     "triangulate_polygons",
 ]
 
@@ -181,6 +183,7 @@ def face_coupling(
     zero_below: float = 0.0,
     iterations: int = 16,
     tol: float = NEWTON_TOL,
+    tangent: tuple[_Array, int] | None = None,
 ) -> tuple[_Array, ...]:
     """:func:`~.face_backend.face_coupling` in one pass over the points (``_faces.c``).
 
@@ -205,6 +208,8 @@ def face_coupling(
         arrays += [coef, index]
         args += [_ptr(ffi, coef), coef.shape[1], coef.shape[2], _ptr(ffi, index, "int32_t *")]
     nk, nc, nt = (a.shape[2] for a in arrays[::2])
+    axis, which = (np.zeros(3), 0) if tangent is None else tangent
+    axis = np.ascontiguousarray(axis, dtype=np.float64)
     first = runs(rc, rt)
     B = first.size  # the blocks, allocated as they are written (no untouched pages)
     b_c, b_t = np.empty((B, nk, nc * 3)), np.empty((B, nk, nt * 3))
@@ -213,7 +218,8 @@ def face_coupling(
         _ptr(ffi, c), Kc, _ptr(ffi, orientation), _ptr(ffi, t), Kt,
         _ptr(ffi, rc, "int32_t *"), _ptr(ffi, rt, "int32_t *"), _ptr(ffi, xi),
         _ptr(ffi, weights), S, Q, *args, int(bool(square)), int(iterations), float(tol),
-        float(ROUND_OFF), float(zero_below), _ptr(ffi, b_c), _ptr(ffi, b_t), _ptr(ffi, g),
+        float(ROUND_OFF), float(zero_below), _ptr(ffi, axis), int(which), _ptr(ffi, b_c),
+        _ptr(ffi, b_t), _ptr(ffi, g),
         _ptr(ffi, coverage), _ptr(ffi, ok, "int8_t *"),
     )  # fmt: skip
     polygon.check_lines(np.arange(S * Q), ok.astype(bool), "target point", iterations)
