@@ -2,6 +2,20 @@
 # SPDX-License-Identifier: MIT
 r"""The friction scenes of issue [4/6] in 3D, shared by ``tests/friction`` and the demo.
 
+- :func:`patch`: the frictional patch tests (below).
+- :func:`extruded`: a partial-slip scene in 2D and the same scene extruded by one layer
+  of hexahedra with :math:`u_z = 0` (plane strain): the 3D discrete problem is the 2D
+  one times the layer's integrals, so the 3D multipliers equal the 2D ones node by node.
+- :func:`cattaneo_mindlin`: two identical spheres (:math:`R = 1`, :math:`E = 1`,
+  :math:`\nu = 0.3`; the half model :math:`y \ge 0` of :func:`paper.hertz3d.mesh`), the
+  upper flat face moved down in four frictionless steps, then along :math:`x` in four
+  steps with :math:`\mu = 0.2`: the stick radius :math:`c = a (1 - Q/(\mu P))^{1/3}` and
+  Mindlin's shear :math:`q(r) = \mu p_0/a [\sqrt{a^2 - r^2} - \sqrt{c^2 - r^2}]_+`
+  against :math:`\lambda_t`. Identical bodies: the normal and tangential problems
+  decouple. Mindlin takes the shear along :math:`Q` everywhere; with :math:`\nu > 0` the
+  slip in the annulus is not quite along it, so his solution is itself approximate
+  there (Johnson, Contact Mechanics, sec. 7.2).
+
 The frictional patch test in 3D: the blocks of :mod:`paper.blocks3d` (:math:`[0, 1]^2
 \times [0, 1/2]` and :math:`[0, 1]^2 \times [1/2, 1]`, meshed independently, tetrahedra or
 hexahedra, optionally with the nodes moved at random in the plane of the contact) in the
@@ -24,6 +38,8 @@ plus :math:`\mathbf d` beyond the stick limit: :math:`\mathbf c = \mathbf d` and
 
 from __future__ import annotations
 
+import math
+import time
 import typing
 
 from mpi4py import MPI
@@ -33,14 +49,22 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.kernels.face_backend import tangents
+from paper import hertz3d
 from paper.blocks3d import BOTTOM, TOP, block
+from paper.hertz3d_study import surface_l2
 
-__all__ = ["NU", "E", "patch"]
+__all__ = ["CM_MU", "CM_SCENE", "NU", "E", "cattaneo_mindlin", "extruded", "patch"]
 
 E, NU = 1.0, 0.3
 G = E / (2 * (1 + NU))
+
+#: Cattaneo-Mindlin: two identical spheres; mu, the approach of the flat faces (a about
+#: 0.05) and their relative motion along x (Q / (mu P) about one half).
+CM_SCENE = hertz3d.Scene(1.0, 1.0, 1.0, 1.0, False, (Material(E, NU),) * 2, 0.0, False)
+CM_MU, CM_DELTA, CM_SHIFT = 0.2, 0.005, 4.5e-4
 
 
 def _exact(p: float, tau: tuple[float, float], c: tuple[float, float]) -> typing.Callable:
@@ -162,3 +186,250 @@ def patch(
             "unknowns": sum(V.dofmap.index_map.size_global * 3 for V, _, _ in spaces)
             + 3 * pair.Q.dofmap.index_map.size_global,
         }
+
+
+def _owned_nodes(f: dolfinx.fem.Function) -> tuple[np.ndarray, int]:
+    Q = f.function_space
+    n = Q.dofmap.index_map.size_local
+    return Q.tabulate_dof_coordinates()[:n], n
+
+
+def cattaneo_mindlin(
+    comm: MPI.Comm,
+    degree: int = 2,
+    h: float = 0.01,
+    reach: float = 0.1,
+    *,
+    far: float | None = None,
+) -> dict[str, typing.Any]:
+    r"""Cattaneo-Mindlin between two identical spheres: tetrahedra of size ``h`` near the contact.
+
+    ``h`` within ``reach`` of the touching point, grading to ``far``
+    (:func:`paper.hertz3d.mesh`): sizes from the geometry, not from :math:`a` or
+    :math:`c`. P``degree`` displacements (geometry of the same degree), the P1 multiplier
+    on the lower sphere's cap. :math:`P` and :math:`Q` are twice the integrals of
+    :math:`\lambda_n` and of the shear along :math:`x` over the half model; Hertz with
+    :math:`R^* = R/2` and :math:`E^* = E / (2(1 - \nu^2))` gives :math:`a` and :math:`p_0`
+    from :math:`P`, and :math:`c = a (1 - Q/(\mu P))^{1/3}`. The measured :math:`c` is the
+    largest distance from the axis of a sticking multiplier node.
+
+    Returns:
+        A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
+        ``c_error_elements``, ``c_error``, ``q_L2_error``, ``p_L2_error``,
+        ``solves_per_step``, ``unknowns``, ``seconds``, and the nodes' ``r``, ``q``
+        and ``p`` (gathered, every rank).
+    """
+    begin = time.perf_counter()
+    mesh, _, tags = hertz3d.mesh(
+        comm, CM_SCENE, h=h, reach=reach, far=far, geometry_degree=degree, half=True
+    )
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
+    form, _, v = Material(E=E, nu=NU).forms(V)
+    L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(3)), v) * ufl.dx
+    motion = dolfinx.fem.Function(V)
+    mesh.topology.create_connectivity(2, 3)
+    top = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["upper_flat"]))
+    far_face = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["lower_far"]))
+    symmetry = dolfinx.fem.locate_dofs_topological(V.sub(1), 2, tags.find(hertz3d.SYM_Y))
+    bcs = [
+        dolfinx.fem.dirichletbc(motion, top),
+        dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), far_face),
+        dolfinx.fem.dirichletbc(0.0, symmetry, V.sub(1)),
+    ]
+    pair = contact_pair(
+        contact_surface(V, tags, hertz3d.TAGS["lower_top"]),
+        contact_surface(V, tags, hertz3d.TAGS["upper_sphere"]),
+        multiplier=("Lagrange", 1),
+    )
+    solves = []
+    with FrictionalContactProblem(
+        form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm3d{degree}_"
+    ) as problem:
+        motion.interpolate(lambda x: np.stack([0 * x[0], 0 * x[0], -CM_DELTA + 0 * x[0]]))
+        problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
+        solves += [len(s.iterations) for s in problem.history.steps]
+        for k in range(1, 5):
+            motion.interpolate(
+                lambda x, k=k: np.stack(
+                    [0 * x[0] + k * CM_SHIFT / 4, 0 * x[0], -CM_DELTA + 0 * x[0]]
+                )
+            )
+            _, (lam_n,), lam_t = problem.solve([1.0], restart=False)
+            solves += [len(s.iterations) for s in problem.history.steps]
+        # The shear along x from the components along T1, T2 at each node (the lower
+        # sphere's normal there), with the sign of the force on the upper sphere.
+        x, n = _owned_nodes(lam_n)
+        centre = np.array([0.0, 0.0, -CM_SCENE.R2])
+        N = -(x - centre) / np.linalg.norm(x - centre, axis=1)[:, None]
+        axis = problem.tangent_axes[0]
+        shear = sum(
+            f.x.array[:n, None] * tangents(N, axis, k) for k, f in zip((1, 2), lam_t, strict=True)
+        )
+        q = dolfinx.fem.Function(lam_n.function_space)
+        q.x.array[:n] = -shear[:, 0]
+        q.x.scatter_forward()
+        stick = problem.stick[0].x.array[:n] > 0.5
+        unknowns = 3 * V.dofmap.index_map.size_global + 3 * pair.Q.dofmap.index_map.size_global
+
+        def total(f):
+            local = dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx))
+            return 2 * comm.allreduce(local, op=MPI.SUM)
+
+        P, Q = total(lam_n), total(q)
+        E_star, R_star = E / (2 * (1 - NU**2)), CM_SCENE.R1 / 2
+        a = (3 * P * R_star / (4 * E_star)) ** (1 / 3)
+        p0 = 3 * P / (2 * math.pi * a**2)
+        c_exact = a * (1 - Q / (CM_MU * P)) ** (1 / 3)
+
+        def mindlin(y):
+            r2 = y[..., 0] ** 2 + y[..., 1] ** 2
+            root = np.sqrt(np.clip(a**2 - r2, 0, None)) - np.sqrt(np.clip(c_exact**2 - r2, 0, None))
+            return CM_MU * p0 / a * root
+
+        def hertz(y):
+            return p0 * np.sqrt(np.clip(1 - (y[..., 0] ** 2 + y[..., 1] ** 2) / a**2, 0, None))
+
+        q_l2, p_l2 = surface_l2(q, mindlin), surface_l2(lam_n, hertz)
+        r = np.hypot(x[:, 0], x[:, 1])
+        c = comm.allreduce(float(r[stick].max(initial=0.0)), op=MPI.MAX)
+        gathered = [
+            np.concatenate(comm.allgather(v)) for v in (r, q.x.array[:n], lam_n.x.array[:n])
+        ]
+    return {
+        "scene": "cattaneo-mindlin-3d",
+        "degree": degree,
+        "h": h,
+        "across": 2 * a / h,
+        "P": P,
+        "Q": Q,
+        "Q_over_muP": Q / (CM_MU * P),
+        "a": a,
+        "p0": p0,
+        "c_exact": c_exact,
+        "c": c,
+        "c_error_elements": abs(c - c_exact) / h,
+        "c_error": abs(c - c_exact) / c_exact,
+        "q_L2_error": math.sqrt(q_l2[0] / q_l2[1]),
+        "p_L2_error": math.sqrt(p_l2[0] / p_l2[1]),
+        "solves_per_step": solves,
+        "unknowns": unknowns,
+        "seconds": comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+        "r": gathered[0],
+        "q": gathered[1],
+        "p": gathered[2],
+    }
+
+
+def extruded(
+    gdim: int,
+    degree: int,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    mu: float = 0.3,
+    plane_strain: bool = True,
+    loads: typing.Sequence[float] = (0.5, 1.0),
+) -> dict[str, typing.Any]:
+    r"""A punch-like partial-slip scene in 2D (quadrilaterals) or extruded (hexahedra).
+
+    The lower block :math:`[0, 1] \times [0, 1/2]` (6 x 3 cells, its bottom clamped), the
+    narrower upper block :math:`[0.2, 0.8] \times [1/2, 1]` (5 x 3 cells, its top moved
+    by :math:`(0.004, -0.01)` in two steps), both P``degree`` (Q), one mesh each; in 3D
+    each block is one layer of thickness 1/4 along :math:`z` with :math:`u_z = 0`
+    everywhere (``plane_strain``; else :math:`u_z` is free: a slab). The contactor is
+    the upper block's bottom, the multiplier of degree ``degree``; ``loads`` the factors
+    of the top's motion.
+
+    Returns:
+        Every multiplier node (gathered, every rank): ``x`` (its in-plane coordinates),
+        ``pressure``, ``shear`` (along :math:`x`, from the contactor on the target) and
+        ``normal_shear`` (along :math:`z`, 3D), ``stick`` and ``active``, and the
+        tangential components of :math:`\lambda_t` and of :math:`\mathbf B_t
+        \mathbf U` (``traction``, ``slip``, ``(n, gdim - 1)``); the ``sets`` of every
+        iteration.
+    """
+    cell = dolfinx.mesh.CellType.quadrilateral if gdim == 2 else dolfinx.mesh.CellType.hexahedron
+    spaces, forms, bcs = [], [], []
+    for box, n, fixed, top in (
+        (((0.0, 0.0), (1.0, 0.5)), (6, 3), True, False),
+        (((0.2, 0.5), (0.8, 1.0)), (5, 3), False, True),
+    ):
+        if gdim == 2:
+            mesh = dolfinx.mesh.create_rectangle(comm, box, n, cell)
+        else:
+            corners = [(*box[0], 0.0), (*box[1], 0.25)]
+            mesh = dolfinx.mesh.create_box(comm, corners, (*n, 1), cell)
+        fdim = gdim - 1
+        facets = [
+            dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x, y=y: np.isclose(x[1], y))
+            for y in (box[0][1], box[1][1])
+        ]
+        indices = np.concatenate(facets)
+        values = np.concatenate(
+            [np.full(f.size, t, np.int32) for f, t in zip(facets, (1, 2), strict=True)]
+        )
+        order = np.argsort(indices)
+        tags = dolfinx.mesh.meshtags(mesh, fdim, indices[order], values[order])
+        V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (gdim,)))
+        form, _, v = Material(E=E, nu=NU).forms(V)
+        forms.append((form, ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(gdim)), v) * ufl.dx))
+        mesh.topology.create_connectivity(fdim, gdim)
+        if fixed:
+            dofs = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(1))
+            bcs.append(dolfinx.fem.dirichletbc(np.zeros(gdim), dofs, V))
+        if top:
+            for k, value in ((0, 0.004), (1, -0.01)):
+                dofs = dolfinx.fem.locate_dofs_topological(V.sub(k), fdim, tags.find(2))
+                bcs.append(dolfinx.fem.dirichletbc(value, dofs, V.sub(k)))
+        if gdim == 3 and plane_strain:
+            mesh.topology.create_connectivity(3, 3)
+            cells = np.arange(mesh.topology.index_map(3).size_local, dtype=np.int32)
+            every = dolfinx.fem.locate_dofs_topological(V.sub(2), 3, cells)
+            bcs.append(dolfinx.fem.dirichletbc(0.0, every, V.sub(2)))
+        spaces.append((V, tags))
+    (V_lo, t_lo), (V_up, t_up) = spaces
+    pair = contact_pair(
+        contact_surface(V_up, t_up, 1),
+        contact_surface(V_lo, t_lo, 2),
+        multiplier=("Lagrange", degree),
+    )
+    a, L = [f for f, _ in forms], [f for _, f in forms]
+    with FrictionalContactProblem(
+        a, L, [pair], bcs, mu=mu, petsc_options_prefix=f"ext{gdim}_"
+    ) as problem:
+        us, (lam_n,), lam_t = problem.solve(loads)
+        x, n = _owned_nodes(lam_n)
+        slips = []
+        for k in range(1, gdim):
+            op = assemble_coupling(pair, k, None if gdim == 2 else problem.tangent_axes[0])
+            s = op.G.duplicate()
+            s.set(0.0)
+            for V, B in op.blocks:
+                B.multAdd(us[[W for W, _ in spaces].index(V)].x.petsc_vec, s, s)
+            slips.append(s.array_r.copy())
+            for obj in (s, op):
+                obj.destroy()
+        if gdim == 2:
+            shear, across = lam_t[0].x.array[:n], np.zeros(n)
+        else:
+            N = np.tile([0.0, 1.0, 0.0], (n, 1))  # -n_C of the upper block's bottom
+            axis = problem.tangent_axes[0]
+            vector = sum(
+                f.x.array[:n, None] * tangents(N, axis, k)
+                for k, f in zip((1, 2), lam_t, strict=True)
+            )
+            shear, across = vector[:, 0], vector[:, 2]
+        values = (
+            x[:, :2],
+            lam_n.x.array[:n],
+            shear,
+            across,
+            problem.stick[0].x.array[:n] > 0.5,
+            problem.active[0].x.array[:n] > 0.5,
+            np.stack([f.x.array[:n] for f in lam_t], axis=1),
+            np.stack(slips, axis=1),
+        )
+        names = ("x", "pressure", "shear", "normal_shear", "stick", "active", "traction", "slip")
+        out = {k: np.concatenate(comm.allgather(v)) for k, v in zip(names, values, strict=True)}
+        out["sets"] = [
+            [(it.active, it.stick) for it in s.iterations] for s in problem.history.steps
+        ]
+    return out

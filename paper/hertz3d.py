@@ -149,9 +149,12 @@ def _split(gmsh: typing.Any, volume: int, cutter: int) -> list[int]:
 
 
 def _classify(
-    gmsh: typing.Any, volumes: list[int], upper: bool, scene: Scene
+    gmsh: typing.Any, volumes: list[int], upper: bool, scene: Scene, half: bool = False
 ) -> dict[int, list[int]]:
-    """The physical tag of every boundary face of a body, from its centre of mass and type."""
+    r"""The physical tag of every boundary face of a body, from its centre of mass and type.
+
+    ``half``: the model :math:`y \ge 0`, whose faces are centred on :math:`x = 0`.
+    """
     tags: dict[int, list[int]] = {}
     cap = scene.R1 * math.sin(CAP) if upper else scene.R2 * math.sin(CAP)
     square = TARGET * scene.R1
@@ -159,7 +162,7 @@ def _classify(
     for _, face in boundary:
         x, y, z = gmsh.model.occ.getCenterOfMass(2, face)
         kind, r = gmsh.model.getType(2, face), math.hypot(x, y)
-        if abs(x) < 1e-9 * scene.R1:
+        if abs(x) < 1e-9 * scene.R1 and not half:
             tag = SYM_X
         elif abs(y) < 1e-9 * scene.R1:
             tag = SYM_Y
@@ -170,7 +173,7 @@ def _classify(
         elif upper:
             tag = TAGS["upper_flat"]
         elif abs(z) < 1e-9 * scene.R1:
-            tag = TAGS["lower_top"] if max(x, y) < square else TAGS["free"]
+            tag = TAGS["lower_top"] if max(abs(x), y) < square else TAGS["free"]
         elif z < -0.5 * scene.depth or not math.isinf(scene.R2):
             tag = TAGS["lower_far"]
         else:
@@ -188,6 +191,7 @@ def mesh(
     far: float | None = None,
     geometry_degree: int = 2,
     rank: int = 0,
+    half: bool = False,
 ) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
     r"""The quarter model of ``scene``: tetrahedra of size ``h`` within ``reach`` of the origin.
 
@@ -199,6 +203,8 @@ def mesh(
         far: Largest element size (default: the smaller radius over 4).
         geometry_degree: 1, or 2 for second-order nodes on the spheres.
         rank: Rank that builds the Gmsh model.
+        half: The half model :math:`y \ge 0` instead (symmetry :data:`SYM_Y` only), for
+            loads along :math:`x`.
 
     Returns:
         ``(mesh, cell_tags, facet_tags)``: cells :data:`UPPER` and :data:`LOWER`, facets
@@ -212,15 +218,17 @@ def mesh(
         raise ValueError(f"need 0 < h <= far and reach > 0, not h={h}, far={far}, reach={reach}")
     if geometry_degree not in (1, 2):
         raise ValueError(f"geometry_degree must be 1 or 2, not {geometry_degree!r}")
+    if half and scene.box:
+        raise ValueError("the half model is built for spheres and cylinders, not boxes")
     with gmsh_session() as gmsh:
         gmsh.model.add("hertz3d")
         if comm.rank == rank:
             occ = gmsh.model.occ
-            quarter = math.pi / 2
-            R1 = scene.R1
+            quarter = math.pi * (1 + half) / 2
+            R1, x0 = scene.R1, -1.0 if half else 0.0  # x0: where the cutting boxes start
             upper = occ.addSphere(0, 0, R1, R1, -1, -math.pi / 2, 0.0, quarter)
             cut = R1 * (1 - math.cos(CAP))
-            uppers = _split(gmsh, upper, occ.addBox(0, 0, 0, R1, R1, cut))
+            uppers = _split(gmsh, upper, occ.addBox(x0 * R1, 0, 0, (1 - x0) * R1, R1, cut))
             if math.isinf(scene.R2):
                 W, D = scene.width, scene.depth
                 if scene.box:
@@ -228,18 +236,20 @@ def mesh(
                 else:
                     lower = occ.addCylinder(0, 0, -D, 0, 0, D, W, -1, quarter)
                 side = TARGET * R1
-                lowers = _split(gmsh, lower, occ.addBox(0, 0, -side, side, side, side))
+                lowers = _split(
+                    gmsh, lower, occ.addBox(x0 * side, 0, -side, (1 - x0) * side, side, side)
+                )
             else:
                 R2 = scene.R2
                 lower = occ.addSphere(0, 0, -R2, R2, -1, 0.0, math.pi / 2, quarter)
                 cut = R2 * (1 - math.cos(CAP))
-                lowers = _split(gmsh, lower, occ.addBox(0, 0, -cut, R2, R2, cut))
+                lowers = _split(gmsh, lower, occ.addBox(x0 * R2, 0, -cut, (1 - x0) * R2, R2, cut))
             occ.synchronize()
             gmsh.model.addPhysicalGroup(3, uppers, UPPER)
             gmsh.model.addPhysicalGroup(3, lowers, LOWER)
             faces: dict[int, list[int]] = {}
             for volumes, is_upper in ((uppers, True), (lowers, False)):
-                for tag, f in _classify(gmsh, volumes, is_upper, scene).items():
+                for tag, f in _classify(gmsh, volumes, is_upper, scene, half).items():
                     faces.setdefault(tag, []).extend(f)
             for tag, f in sorted(faces.items()):
                 gmsh.model.addPhysicalGroup(2, f, tag)

@@ -52,7 +52,7 @@ from paper.hertz import axisymmetric as axi
 from paper.hertz.exact import pressure_l2_error
 from paper.scenes import size_field
 
-__all__ = ["adaptive", "axisymmetric", "nodes", "read", "run"]
+__all__ = ["adaptive", "axisymmetric", "nodes", "read", "run", "surface_l2"]
 
 
 def nodes(problem: UnilateralContactProblem) -> dict[str, np.ndarray]:
@@ -97,10 +97,12 @@ def _radius(data: dict[str, np.ndarray]) -> tuple[float, float, float]:
     return a_h, float(r[on].max()), outside
 
 
-def _l2(problem: UnilateralContactProblem, a: float, p0: float) -> tuple[float, float]:
-    r""":math:`\int (\lambda_h - p)^2` and :math:`\int p^2` over the multiplier mesh (all ranks)."""
-    lam = problem.multipliers[0]
-    Q = lam.function_space
+def surface_l2(f: dolfinx.fem.Function, exact: typing.Callable) -> tuple[float, float]:
+    r""":math:`\int (f - p)^2` and :math:`\int p^2` over the triangles of ``f``'s mesh (all ranks).
+
+    ``p = exact(x)`` at points ``x`` of shape ``(..., 3)``.
+    """
+    Q = f.function_space
     mesh = Q.mesh
     num = mesh.topology.index_map(2).size_local
     # The reference triangle cut into 16: points and weights of a degree-8 rule on each.
@@ -123,11 +125,20 @@ def _l2(problem: UnilateralContactProblem, a: float, p0: float) -> tuple[float, 
     jac = np.linalg.norm(
         np.cross(np.einsum("qn,cnd->cqd", psi[1], X), np.einsum("qn,cnd->cqd", psi[2], X)), axis=2
     )
-    lq = lam.x.array[Q.dofmap.list[:num]].real @ phi.T
-    exact = p0 * np.sqrt(np.clip(1 - (xq[:, :, 0] ** 2 + xq[:, :, 1] ** 2) / a**2, 0, None))
-    local = np.array([np.sum((lq - exact) ** 2 * jac * w), np.sum(exact**2 * jac * w)])
+    lq = f.x.array[Q.dofmap.list[:num]].real @ phi.T
+    reference = exact(xq)
+    local = np.array([np.sum((lq - reference) ** 2 * jac * w), np.sum(reference**2 * jac * w)])
     total = mesh.comm.allreduce(local, op=MPI.SUM)
     return float(total[0]), float(total[1])
+
+
+def _l2(problem: UnilateralContactProblem, a: float, p0: float) -> tuple[float, float]:
+    r""":math:`\int (\lambda_h - p)^2` and :math:`\int p^2` over the multiplier mesh (all ranks)."""
+
+    def hertz(x):
+        return p0 * np.sqrt(np.clip(1 - (x[..., 0] ** 2 + x[..., 1] ** 2) / a**2, 0, None))
+
+    return surface_l2(problem.multipliers[0], hertz)
 
 
 def read(

@@ -167,10 +167,31 @@ class CoulombFriction:
         self.multipliers = [
             dolfinx.fem.Function(pairs[i // nd].Q, name=name) for i, name in enumerate(self.names)
         ]
+        self.pinned = [self._pinned(op) for op in self.operators]
         self.start([np.zeros(op.G.getLocalSize(), dtype=bool) for op in self.operators[::nd]])
         # The previous step's solution, owned values of every space (zero at the start).
         self.previous = [np.zeros(u.x.petsc_vec.getLocalSize()) for u in system.u]
         self._objects: list = []
+
+    def _pinned(self, op: CouplingOperator) -> npt.NDArray[np.bool_]:
+        r"""Owned rows of ``op`` that meet no free dof: the motion along it is prescribed.
+
+        Their multiplier carries no constraint (the Dirichlet reaction holds the shear):
+        it is zero, and its row is the identity (else the saddle point is singular, e.g.
+        :math:`\mathbf T_1` along :math:`z` under :math:`u_z = 0` everywhere).
+        """
+        n = op.G.getLocalSize()
+        largest = np.zeros((2, n))  # per row: the largest entry, and on a free dof
+        for V, B in op.blocks:
+            free = B.copy()
+            free.diagonalScale(None, self.system.masks[self.system.space_index(V)])
+            for k, M in enumerate((B, free)):
+                ai, _, values = M.getValuesCSR()
+                rows = np.repeat(np.arange(n), np.diff(ai))
+                np.maximum.at(largest[k], rows, np.abs(values))
+            free.destroy()
+        # Round-off of the tangents (1e-17 on a direction held by Dirichlet conditions).
+        return largest[1] <= 1e-12 * largest[0]
 
     def destroy(self) -> None:
         """Destroy the PETSc objects."""
@@ -280,7 +301,11 @@ class CoulombFriction:
             for k, op in enumerate(ops):
                 f = nb + npairs + j * nd + k
                 # W_kl: the weights of s_l in row k.
-                W = [np.eye(nd)[k, m] * stick - self.scales[j] * curve[:, k, m] for m in range(nd)]
+                pin = self.pinned[j * nd + k]
+                W = [
+                    ~pin * (np.eye(nd)[k, m] * stick - self.scales[j] * curve[:, k, m])
+                    for m in range(nd)
+                ]
                 g = op.G.duplicate()
                 g.array[:] = sum(w * h.array_r for w, h in zip(W, shifts, strict=True))
                 for V, _ in op.blocks:
@@ -301,11 +326,11 @@ class CoulombFriction:
                     blocks[i][f] = columns.transpose(PETSc.Mat())
                     keep([rows, columns, blocks[i][f]])
                 for m in range(nd):
-                    diagonal = np.eye(nd)[k, m] * ~stick - curve[:, k, m]
+                    diagonal = np.eye(nd)[k, m] * (~stick | pin) - ~pin * curve[:, k, m]
                     blocks[f][nb + npairs + j * nd + m] = _diagonal(op.G, diagonal)
                     keep([blocks[f][nb + npairs + j * nd + m]])
                 # Slip: - mu xi lambda_n (Tresca: the right side g xi).
-                xi = slip * self.signs[j][:, k]
+                xi = ~pin * slip * self.signs[j][:, k]
                 if self.slip_bound is not None:
                     g.array[:] += self.slip_bound * xi
                 rhs.append(g)

@@ -24,7 +24,7 @@ from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.friction.coulomb import tangent_axis
 from dolfinx_contact_s2s.kernels.face_backend import tangents
 from paper.blocks3d import BOTTOM, TOP, scene
-from paper.friction3d import patch
+from paper.friction3d import extruded, patch
 
 BOUND = 1e-10
 
@@ -123,3 +123,53 @@ def test_degenerate_tangent_basis_is_refused():
             problem.solve()
     with pytest.raises(ValueError, match="nonzero 3-vector"):
         tangent_axis(pair, (0.0, float("nan"), 1.0))
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_extruded_equals_plane_strain(degree):
+    r"""One layer of hexahedra with :math:`u_z = 0`: the 2D problem times the layer's integrals.
+
+    The 2D plane-strain solution extended along :math:`z` solves the 3D discrete problem
+    (stiffness, coupling and loads are the 2D ones times the layer's integrals, the
+    multiplier constant along :math:`z`), which has one solution: the 3D multipliers
+    (face kernels, two tangents, the Newton rows of slip on faces) equal the 2D ones
+    (edge kernels, one tangent) node by node, and the sets repeat the 2D ones on every
+    layer of nodes, on a punch with partial slip.
+    """
+    two, three = extruded(2, degree), extruded(3, degree)
+    layers = degree + 1
+    assert three["sets"] == [
+        [((layers * a[0],), (layers * s[0],)) for a, s in step] for step in two["sets"]
+    ]
+    assert 0 < np.count_nonzero(two["stick"]) < np.count_nonzero(two["active"])  # partial
+    place = {tuple(np.round(x, 9)): i for i, x in enumerate(two["x"])}
+    at = np.array([place[tuple(np.round(x, 9))] for x in three["x"]])
+    scale = np.max(np.abs(two["pressure"]))
+    for key in ("pressure", "shear"):
+        assert np.max(np.abs(three[key] - two[key][at])) <= BOUND * scale
+    assert np.max(np.abs(three["normal_shear"])) <= BOUND * scale
+    np.testing.assert_array_equal(three["stick"], two["stick"][at])
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_coulomb_disk_node_by_node(degree):
+    r"""A slab (:math:`u_z` free) with partial slip: Coulomb's disk at every node.
+
+    One load step from rest, :math:`\tilde s = \mathbf B_t \mathbf U` recomputed from the
+    tangential couplings: :math:`|\lambda_t| \le \mu \lambda_n`; :math:`\tilde s = 0` where
+    a node sticks; where it slips, :math:`\lambda_t = \mu \lambda_n \tilde s / |\tilde
+    s|` (the direction of the slip, both components); :math:`\lambda = 0` off contact.
+    """
+    mu = 0.3
+    r = extruded(3, degree, mu=mu, plane_strain=False, loads=(1.0,))
+    p, t, s = r["pressure"], r["traction"], r["slip"]
+    stick, active = r["stick"], r["active"]
+    assert 0 < np.count_nonzero(stick) < np.count_nonzero(active)
+    scale, size = np.max(np.abs(p)), np.linalg.norm(s, axis=1)
+    assert np.max(np.linalg.norm(t, axis=1) - mu * p) <= BOUND * scale
+    assert np.max(size[stick]) <= BOUND * np.max(size)
+    sliding = active & ~stick
+    assert np.all(size[sliding] > 1e-6 * np.max(size))
+    expected = mu * p[sliding, None] * s[sliding] / size[sliding, None]
+    assert np.max(np.abs(t[sliding] - expected)) <= BOUND * scale
+    assert np.max(np.abs(p[~active]), initial=0.0) == 0.0
