@@ -339,7 +339,7 @@ def extruded(
     of the top's motion.
 
     Returns:
-        Every multiplier node (gathered, every rank): ``x`` (its in-plane coordinates),
+        Every multiplier node (gathered, every rank): ``x`` (its coordinates),
         ``pressure``, ``shear`` (along :math:`x`, from the contactor on the target) and
         ``normal_shear`` (along :math:`z`, 3D), ``stick`` and ``active``, and the
         tangential components of :math:`\lambda_t` and of :math:`\mathbf B_t
@@ -418,7 +418,7 @@ def extruded(
             )
             shear, across = vector[:, 0], vector[:, 2]
         values = (
-            x[:, :2],
+            x[:, :gdim],
             lam_n.x.array[:n],
             shear,
             across,
