@@ -18,6 +18,10 @@
 # degrees beyond the stick limit slips everywhere with $\lambda_t = \mu p\, \mathbf d /
 # |\mathbf d|$. Checked to $10^{-10}$ relative (the exit status is non-zero if not).
 #
+# **Inclined block.** A block pushed up the tilted plane $z = 0.5 + 0.1 x$ ($\mu = 0.5$,
+# $u_y = 0$), all of it sliding: the push's reaction over the vertical load is
+# $(\mu + \tan\alpha)/(1 - \mu\tan\alpha)$, checked to $10^{-8}$.
+#
 # **Cattaneo-Mindlin.** Two identical spheres ($R = 1$, $E = 1$, $\nu = 0.3$, the half
 # model $y \ge 0$), the upper flat face moved down in four frictionless steps
 # ($a \approx 0.05$), then along $x$ in four steps with $\mu = 0.2$
@@ -34,7 +38,7 @@ from mpi4py import MPI
 
 import numpy as np
 
-from paper.friction3d import CM_MU, cattaneo_mindlin, patch
+from paper.friction3d import CM_MU, cattaneo_mindlin, inclined_block, patch
 from paper.records import merge_rank_records
 from paper.report import demo_parser, output_folder, rank0_print, write_section
 
@@ -45,7 +49,7 @@ args = demo_parser(
 comm = MPI.COMM_WORLD
 out = output_folder(args.out, comm)
 log = rank0_print(comm)
-PATCH_BOUND = 1e-10
+PATCH_BOUND, INCLINE_BOUND = 1e-10, 1e-8
 SIZES = {1: (0.02,)} if args.smoke else {1: (0.02, 0.01, 0.007), 2: (0.02, 0.014, 0.01)}
 records, failed = [], []
 # -
@@ -70,6 +74,21 @@ for case in ("stick", "slip"):
             )
             if worst > PATCH_BOUND or rec["stick"] != expected or not rec["converged"]:
                 failed.append(f"patch {case} {rec['cells']} P{degree} seed {seed}")
+# -
+
+# ## The inclined block
+
+# +
+for cells, degree in ((("tet", "hex"), 1), (("hex", "tet"), 1), (("tet", "hex"), 2)):
+    rec = inclined_block(comm, degree, cells=cells)
+    rec["cells"], rec["ranks"] = "-".join(cells), comm.size
+    records.append(rec)
+    log(
+        f"inclined block {rec['cells']} P{degree}: ratio {rec['ratio']:.10f}, error "
+        f"{rec['error']:.1e}, {rec['solves']} solves"
+    )
+    if rec["error"] > INCLINE_BOUND or not rec["sliding"]:
+        failed.append(f"inclined block {rec['cells']} P{degree}: {rec}")
 # -
 
 # ## Cattaneo-Mindlin between two spheres
@@ -143,6 +162,15 @@ if comm.rank == 0:
             for k in ("lambda_n", "lambda_t", "u")
         )
         + f"; solves {sorted({x['solves'] for x in patches})}.",
+        "",
+        "Inclined block in 3D (the contact plane z = 0.5 + 0.1 x, μ = 0.5, u_y = 0, all "
+        "sliding), push reaction / vertical load against 0.6315789474: "
+        + ", ".join(
+            f"{x['cells']} P{x['degree']} {x['error']:.1e} ({x['solves']} solves)"
+            for x in mine
+            if x["scene"] == "inclined-block-3d"
+        )
+        + ".",
         "",
         "Cattaneo-Mindlin (two spheres R = 1, a ≈ 0.05, μ = 0.2; h: element size within 2a "
         "of the contact; c: the outermost sticking node; errors relative L2 over the "

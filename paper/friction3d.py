@@ -3,6 +3,9 @@
 r"""The friction scenes of issue [4/6] in 3D, shared by ``tests/friction`` and the demo.
 
 - :func:`patch`: the frictional patch tests (below).
+- :func:`inclined_block`: a block pushed up a slope :math:`\tan\alpha = 0.1` with
+  :math:`\mu = 0.5`, all of it sliding: the reaction's ratio
+  :math:`(\mu + \tan\alpha)/(1 - \mu\tan\alpha)`, on a tilted contact plane.
 - :func:`extruded`: a partial-slip scene in 2D and the same scene extruded by one layer
   of hexahedra with :math:`u_z = 0` (plane strain): the 3D discrete problem is the 2D
   one times the layer's integrals, so the 3D multipliers equal the 2D ones node by node.
@@ -43,8 +46,10 @@ import time
 import typing
 
 from mpi4py import MPI
+from petsc4py import PETSc
 
 import dolfinx
+import dolfinx.fem.petsc
 import numpy as np
 import ufl
 
@@ -53,10 +58,19 @@ from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.kernels.face_backend import tangents
 from paper import hertz3d
-from paper.blocks3d import BOTTOM, TOP, block
+from paper.blocks3d import BOTTOM, SIDE_X, TOP, block
 from paper.hertz3d_study import surface_l2
 
-__all__ = ["CM_MU", "CM_SCENE", "NU", "E", "cattaneo_mindlin", "extruded", "patch"]
+__all__ = [
+    "CM_MU",
+    "CM_SCENE",
+    "NU",
+    "E",
+    "cattaneo_mindlin",
+    "extruded",
+    "inclined_block",
+    "patch",
+]
 
 E, NU = 1.0, 0.3
 G = E / (2 * (1 + NU))
@@ -433,3 +447,85 @@ def extruded(
             [(it.active, it.stick) for it in s.iterations] for s in problem.history.steps
         ]
     return out
+
+
+def inclined_block(
+    comm: MPI.Comm,
+    degree: int,
+    *,
+    tan: float = 0.1,
+    mu: float = 0.5,
+    cells: tuple[str, str] = ("tet", "hex"),
+) -> dict[str, typing.Any]:
+    r"""A block pushed up a slope in 3D, all of it sliding: the reaction's ratio.
+
+    The blocks of :func:`paper.blocks3d.block` (3 and 4 across), sheared by
+    :math:`z \mapsto z + x \tan\alpha`: the contact plane rises along :math:`x`. The lower
+    block is clamped at its bottom; the upper one is pressed by a vertical load :math:`V`
+    on its top and pushed by :math:`u_x = 5` on its side :math:`x = 0`; :math:`u_y = 0`
+    in both, so that the slip runs along the slope as the formula assumes (with
+    :math:`u_y` free the two blocks' Poisson expansions differ, the slip turns by a
+    little and the ratio drops by 1e-4). The multipliers along :math:`\mathbf T_2 =
+    \mathbf e_y` then meet only Dirichlet dofs: they are pinned to zero. The reaction
+    :math:`R_x` of the push is the residual :math:`a(u, v) - L(v)` at the pushed dofs
+    (not :math:`\lambda`).
+
+    Returns:
+        A record: ``ratio`` :math:`R_x / V`, ``expected``, ``error`` (relative),
+        ``sliding`` (no multiplier sticks, some active), ``solves``, ``unknowns``.
+    """
+    load, spaces, a, L, bcs = 0.2, [], [], [], []
+    for z0, n, cell, upper in ((0.0, 3, cells[0], False), (0.5, 4, cells[1], True)):
+        mesh, tags = block(z0, n, cell, None, comm=comm)
+        mesh.geometry.x[:, 2] += tan * mesh.geometry.x[:, 0]
+        V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
+        form, _, v = Material(E=E, nu=NU).forms(V)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+        a.append(form)
+        zero = dolfinx.fem.Constant(mesh, np.zeros(3))
+        L.append(-load * v[2] * ds(TOP) if upper else ufl.inner(zero, v) * ds)
+        if upper:
+            push = np.setdiff1d(
+                dolfinx.fem.locate_dofs_topological(V.sub(0), 2, tags.find(SIDE_X)),
+                dolfinx.fem.locate_dofs_topological(V.sub(0), 2, tags.find(BOTTOM)),
+            )
+            bcs.append(dolfinx.fem.dirichletbc(5.0, push, V.sub(0)))
+        else:
+            clamp = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(BOTTOM))
+            bcs.append(dolfinx.fem.dirichletbc(np.zeros(3), clamp, V))
+        mesh.topology.create_connectivity(3, 3)
+        cells_all = np.arange(mesh.topology.index_map(3).size_local, dtype=np.int32)
+        plane = dolfinx.fem.locate_dofs_topological(V.sub(1), 3, cells_all)
+        bcs.append(dolfinx.fem.dirichletbc(0.0, plane, V.sub(1)))
+        spaces.append((V, tags, TOP if not upper else BOTTOM))
+    surfaces = [contact_surface(V, tags, tag) for V, tags, tag in spaces]
+    pair = contact_pair(surfaces[1], surfaces[0], multiplier=("Lagrange", degree))
+    with FrictionalContactProblem(
+        a, L, [pair], bcs, mu=mu, petsc_options_prefix=f"incline3d{degree}_"
+    ) as problem:
+        (_, u), _, _ = problem.solve()
+        last = problem.history.steps[-1].iterations[-1]
+        sliding = last.active[0] > 0 and last.stick == (0,)
+        solves = problem.history.iterations
+        axis = problem.tangent_axes[0]
+    V, tags, _ = spaces[1]
+    residual = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(ufl.action(a[1], u) - L[1]))
+    residual.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    owned = push[push < residual.getLocalSize()]
+    reaction = comm.allreduce(float(np.sum(residual.array_r[owned])))
+    residual.destroy()
+    ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=tags)
+    V_load = comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(load * ds(TOP))))
+    expected = (mu + tan) / (1 - mu * tan)
+    return {
+        "scene": "inclined-block-3d",
+        "degree": degree,
+        "ratio": reaction / V_load,
+        "expected": expected,
+        "error": abs(reaction / V_load - expected) / expected,
+        "sliding": bool(sliding),
+        "solves": solves,
+        "axis": [float(t) for t in axis],
+        "unknowns": sum(3 * W.dofmap.index_map.size_global for W, _, _ in spaces)
+        + 3 * pair.Q.dofmap.index_map.size_global,
+    }

@@ -24,7 +24,7 @@ from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.friction.coulomb import tangent_axis
 from dolfinx_contact_s2s.kernels.face_backend import tangents
 from paper.blocks3d import BOTTOM, TOP, scene
-from paper.friction3d import extruded, patch
+from paper.friction3d import extruded, inclined_block, patch
 
 BOUND = 1e-10
 
@@ -187,3 +187,13 @@ def test_ranks_agree():
         size = scale if key != "slip" else np.max(np.abs(alone["slip"]))
         assert np.max(np.abs(world[key] - alone[key][at])) <= BOUND * size
     np.testing.assert_array_equal(world["stick"], alone["stick"][at])
+
+
+@pytest.mark.parametrize(
+    "cells, degree", [(("tet", "hex"), 1), (("hex", "tet"), 1), (("tet", "hex"), 2)]
+)
+def test_inclined_block(cells, degree):
+    """Pushed up a tilted plane, all sliding: R_x / V = (mu + tan a)/(1 - mu tan a) to 1e-8."""
+    record = inclined_block(MPI.COMM_WORLD, degree, cells=cells)
+    assert record["sliding"]
+    assert record["error"] <= 1e-8
