@@ -11,8 +11,9 @@ r"""The friction scenes of issue [4/6] in 2D, shared by ``tests/friction`` and t
   sliding with :math:`\mu = 0.5`: the reaction's ratio
   :math:`(\mu + \tan\alpha)/(1 - \mu\tan\alpha)`.
 - The frictional patch test's scene (:func:`patch_scene`, :func:`patch_pair`,
-  :func:`patch_bcs`, :func:`patch_loads`, :func:`patch_exact`, :func:`patch_reference`)
-  and its two cases :func:`patch_stick` and :func:`patch_slip`.
+  :func:`patch_bcs`, :func:`patch_loads`, :func:`patch_exact`, :func:`patch_reference`,
+  and :func:`patch_path` for a load path of uniform states) and its two cases
+  :func:`patch_stick` and :func:`patch_slip`.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ __all__ = [
     "patch_exact",
     "patch_loads",
     "patch_pair",
+    "patch_path",
     "patch_reference",
     "patch_scene",
     "patch_slip",
@@ -287,9 +289,12 @@ def patch_bcs(
 
 
 def patch_loads(
-    part: typing.Any, v: typing.Any, p: float, tau: float, top_shear: bool = True
+    part: typing.Any, v: typing.Any, p: typing.Any, tau: typing.Any, top_shear: bool = True
 ) -> typing.Any:
-    """Pressure p on the top, the shear tau on the sides and bottom (and top) of both."""
+    """Pressure p on the top, the shear tau on the sides and bottom (and top) of both.
+
+    ``p`` and ``tau`` are numbers or :class:`dolfinx.fem.Constant` (a load path).
+    """
     ds = ufl.Measure("ds", domain=part.mesh, subdomain_data=part.facet_tags)
     L = -p * v[1] * ds(23) - tau * v[0] * ds(1)
     L += tau * v[1] * (ds(2) + ds(22)) - tau * v[1] * (ds(4) + ds(24))
@@ -311,6 +316,33 @@ def patch_reference(
     upper = np.unique(V.dofmap.list[part.cell_tags.find(2)])
     u.x.array[2 * upper] += c
     return u
+
+
+def patch_path(
+    part: typing.Any, V: dolfinx.fem.FunctionSpace, v: typing.Any
+) -> tuple[typing.Any, list[dolfinx.fem.DirichletBC], typing.Callable[[float, float, float], None]]:
+    r"""The patch test as a load path: its loads and the top's :math:`u_x`, set step by step.
+
+    Returns:
+        The linear form, the conditions (:func:`patch_bcs` and the top's :math:`u_x`) and
+        ``state(p, tau, c)``, which sets the pressure :math:`p` on the top, the shear
+        :math:`\tau` on the sides and bottom (:func:`patch_loads` without the top's) and
+        the top's :math:`u_x` to that of the uniform state of :math:`p`, :math:`\tau`
+        with the upper block slipped by :math:`c` (:func:`patch_exact` plus :math:`c`).
+    """
+    pressure, shear = (dolfinx.fem.Constant(part.mesh, 0.0) for _ in range(2))
+    L = patch_loads(part, v, pressure, shear, top_shear=False)
+    Vx, _ = V.sub(0).collapse()
+    top = dolfinx.fem.Function(Vx)
+    fdim = part.mesh.topology.dim - 1
+    dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, part.facet_tags.find(23))
+    bcs = [*patch_bcs(part, V), dolfinx.fem.dirichletbc(top, dofs, V.sub(0))]
+
+    def state(p: float, tau: float, c: float) -> None:
+        pressure.value, shear.value = p, tau
+        top.interpolate(lambda x: patch_exact(p, tau)(x)[0] + c)
+
+    return L, bcs, state
 
 
 def _patch_record(comm, problem, pair, V, u, lam_n, lam_t, p, tau, reference, case, degree):

@@ -41,6 +41,7 @@ from paper.friction import (
     patch_exact,
     patch_loads,
     patch_pair,
+    patch_path,
     patch_reference,
     patch_scene,
 )
@@ -285,20 +286,8 @@ def test_load_order(degree):
     part, V = patch_scene(degree)
     a, _, v = MATERIAL.forms(V)
     p, p1, mu, d = 0.75, 0.2, 0.3, 0.2
-    pressure, shear = (dolfinx.fem.Constant(part.mesh, 0.0) for _ in range(2))
-    ds = ufl.Measure("ds", domain=part.mesh, subdomain_data=part.facet_tags)
-    L = -pressure * v[1] * ds(23) - shear * v[0] * ds(1)
-    L += shear * v[1] * (ds(2) + ds(22)) - shear * v[1] * (ds(4) + ds(24))
-    Vx, _ = V.sub(0).collapse()
-    top = dolfinx.fem.Function(Vx)
-    fdim = part.mesh.topology.dim - 1
-    dofs = dolfinx.fem.locate_dofs_topological((V.sub(0), Vx), fdim, part.facet_tags.find(23))
-    bcs = [*patch_bcs(part, V), dolfinx.fem.dirichletbc(top, dofs, V.sub(0))]
+    L, bcs, state = patch_path(part, V, v)
     pair = patch_pair(part, V, degree)
-
-    def state(p_, tau, c):
-        pressure.value, shear.value = p_, tau
-        top.interpolate(lambda x: patch_exact(p_, tau)(x)[0] + c)
 
     for order, path, tau_end in (
         ("press, slide", [(p, 0.0, 0.0), (p, mu * p, d)], mu * p),
