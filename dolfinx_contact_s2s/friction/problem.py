@@ -18,6 +18,8 @@ import time
 import typing
 from collections.abc import Callable, Sequence
 
+from mpi4py import MPI
+
 import dolfinx
 import numpy as np
 import numpy.typing as npt
@@ -28,7 +30,7 @@ from dolfinx_contact_s2s.checks.inputs import check_inequality_multipliers
 from dolfinx_contact_s2s.friction.coulomb import CoulombFriction
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
-from dolfinx_contact_s2s.unilateral.complementarity import Complementarity
+from dolfinx_contact_s2s.unilateral.complementarity import Complementarity, owned_indices
 from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 from dolfinx_contact_s2s.unilateral.problem import STARTS
@@ -143,6 +145,7 @@ class FrictionalContactProblem(ContactProblemBase):
         self._monitor = monitor
         self._friction: CoulombFriction | None = None
         self._complementarity: Complementarity | None = None
+        self._support: tuple[checks.SupportGram, list] | None = None
         super().__init__(a, L, pairs, bcs, **options)
         bound = "" if slip_bound is None else _check(slip_bound, [], "slip bound")
         problems = [m for m in self.comm.allgather(bound or _check(mu, pairs)) if m]
@@ -165,7 +168,7 @@ class FrictionalContactProblem(ContactProblemBase):
 
         With ``check``, the support of every body (Eq. 33) counts the tangential rows too
         if :math:`\mu > 0` (a body held by sticking contact), and the rank check
-        (Eq. 35) is the normal one.
+        (Eq. 35) is the normal one; the support is kept to check the sets of every solve.
         """
         system = self.system
         system.assemble(check=False)
@@ -182,9 +185,10 @@ class FrictionalContactProblem(ContactProblemBase):
             K = [system.stiffness_matrix(i) for i in range(len(self.spaces))]
             labels = [checks.connected_components(V.mesh)[0] for V in self.spaces]
             try:
-                system_checks.check_support(
+                gram = system_checks.check_support(
                     self.spaces, K, system.masks, ops, system.space_index, labels
                 )
+                self._support = (gram, labels)
                 system_checks.check_redundancy(
                     system.pairs, system.operators, system.masks, system.space_index
                 )
@@ -216,7 +220,9 @@ class FrictionalContactProblem(ContactProblemBase):
 
         Raises:
             ValueError: On every rank, if the model is singular or a factor not finite.
-            ContactConvergenceError: On every rank, if a load step does not converge.
+            ContactConvergenceError: On every rank, if a load step does not converge, or
+                if the slip of a solve leaves free a body that only friction holds (its
+                tangential load exceeds :math:`\mu` times its normal load), naming it.
         """
         loads = [float(t) for t in load_factors]
         if not loads or not all(np.isfinite(loads)):
@@ -254,6 +260,7 @@ class FrictionalContactProblem(ContactProblemBase):
                 if entered == left == changed == 0 and max(normal, tangential) <= self.tolerance:
                     step.converged = True
                     break
+                self._check_slip(run, step, active)
             else:
                 run.fail(
                     f"the frictional active-set iteration did not converge in "
@@ -268,6 +275,47 @@ class FrictionalContactProblem(ContactProblemBase):
                 f.x.array[: a.size] = a
                 f.x.scatter_forward()
         return self.u, self.multipliers, self.tangential
+
+    def _check_slip(self, run: ContactIteration, step: LoadStep, active: list) -> None:
+        """Raise if the slip of the next sets frees a body that sticking would hold (Eq. 33)."""
+        comp, friction = self._complementarity, self._friction
+        if self._support is None or comp is None or friction is None:
+            return
+        (gram, labels), pairs = self._support, self.system.pairs
+        normal = [
+            np.union1d(op.inactive, r)
+            for op, r in zip(self.system.operators, comp.released(active), strict=True)
+        ]
+
+        def free(stick: list) -> list:  # per pair; its tangential operators are consecutive
+            ops, nd = enumerate(friction.operators), friction.directions
+            return gram.motions(normal + [owned_indices(op.G, ~stick[i // nd]) for i, op in ops])
+
+        motions = free(friction.stick)
+        if not motions or len(free(active)) >= len(motions):
+            return
+        m, body = motions[0], motions[0].motions[0].body()
+        roles = [
+            f"the {role} of pair {j}"
+            for j, pair in enumerate(pairs)
+            for role, s in (("contactor", pair.contactor), *(("target", t) for t in pair.targets))
+            if self.comm.allreduce(
+                self.system.space_index(s.V) == m.space
+                and bool(np.any(labels[m.space][s.cells] == m.component)),
+                op=MPI.LOR,
+            )
+        ]
+        limit = (
+            f"mu = {friction.mu:g} times its normal load"
+            if self.slip_bound is None
+            else f"the slip bound {self.slip_bound:g} times its contact surface"
+        )
+        run.fail(
+            f"solve {len(step.iterations)} at load {step.load:g}: {body} ({', '.join(roles)}) "
+            f"slips on every active multiplier and nothing else holds it tangentially "
+            f"({m.description} is free): the tangential load on it exceeds {limit}. Hold it by "
+            "a Dirichlet condition or lower that load (if it should stick: smaller load steps)."
+        )
 
     def destroy(self) -> None:
         """Destroy the PETSc objects and remove the problem's options from the database."""

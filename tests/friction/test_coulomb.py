@@ -274,6 +274,42 @@ def test_not_converged_raises_with_sets():
     assert not error.value.history.steps[-1].converged
 
 
+@pytest.mark.parametrize("tau", [0.2, 0.25])
+@pytest.mark.parametrize("degree", [1, 2])
+def test_friction_cannot_hold(degree, tau):
+    r"""A body held tangentially by friction alone: it sticks, or the error names it.
+
+    The patch test's blocks with no tangential condition on the upper one, pressed by
+    :math:`p = 0.75` and sheared by :math:`\tau` on its top (and the uniform state's
+    shear on the sides), :math:`\mu = 0.3`, :math:`\mu p = 0.225`. Below the limit,
+    friction holds it: every multiplier sticks, :math:`\lambda_t = \tau`, the uniform
+    state. Above it nothing can: no equilibrium exists, and the solve names the upper
+    block (body 1, the contactor) on every rank instead of running to ``max_iterations``.
+    """
+    part, V = patch_scene(degree)
+    a, _, v = MATERIAL.forms(V)
+    p, mu = 0.75, 0.3
+    pair = patch_pair(part, V, degree)
+    L = patch_loads(part, v, p, tau)
+    with FrictionalContactProblem(
+        a, L, [pair], patch_bcs(part, V), mu=mu, petsc_options_prefix="fr_hold_"
+    ) as problem:
+        if tau > mu * p:
+            message = (
+                r"body 1 of space 0 \(nodes in \[0, 1\] x \[0.5, 1\]\) \(the contactor of "
+                r"pair 0\) slips on every active multiplier and nothing else holds it "
+                r"tangentially \(translation along \(1, 0\) is free\): the tangential load on "
+                r"it exceeds mu = 0.3 times its normal load"
+            )
+            with pytest.raises(ContactConvergenceError, match=message):
+                problem.solve()
+            return
+        (u,), (lam_n,), (lam_t,) = problem.solve()
+        reference = patch_reference(part, V, patch_exact(p, tau), 0.0)
+        last, total = _check_uniform(problem, pair, V, u, lam_n, lam_t, p, tau, reference)
+        assert last.active == (total,) and last.stick == (total,)
+
+
 @pytest.mark.parametrize("degree", [1, 2])
 def test_load_order(degree):
     """Press then slide, or slide lightly pressed then press: two answers, each exact.
