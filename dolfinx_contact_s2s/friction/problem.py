@@ -202,6 +202,7 @@ class FrictionalContactProblem(ContactProblemBase):
         *,
         restart: bool = True,
         mu: float | None = None,
+        after: FrictionalContactProblem | None = None,
     ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         r"""Assemble, then solve the load steps in turn, each slipping from the previous one.
 
@@ -213,6 +214,9 @@ class FrictionalContactProblem(ContactProblemBase):
                 normal load, then a tangential one), changed between the solves.
             mu: The friction coefficient of these steps (default: the problem's ``mu``),
                 e.g. 0 for a frictionless normal load before a tangential one.
+            after: Continue another problem's last solve instead, on the same spaces
+                and pairs with other Dirichlet conditions (say a symmetry condition
+                that held a body while it was frictionless, released).
 
         Returns:
             The displacement of every space, and :math:`\lambda_n` and
@@ -230,7 +234,8 @@ class FrictionalContactProblem(ContactProblemBase):
         problems = [m for m in self.comm.allgather(_check(self.mu if mu is None else mu, [])) if m]
         if problems:
             raise ValueError(problems[0])
-        state = None if restart or self._friction is None else self._friction.state()
+        source = (self if after is None else after)._friction
+        state = None if (restart and after is None) or source is None else source.state()
         self.assemble()
         comp, friction = self._complementarity, self._friction
         assert comp is not None and friction is not None

@@ -32,6 +32,11 @@ With :math:`p = 0.75`, :math:`\mu = 0.3` (:math:`\mu p = 0.225`), :math:`E = 1`,
   :math:`\mu p - G d / H` = 0.148 (the room to :math:`-\mu p`), so all slips the other
   way: :math:`\tau = -\mu p`, :math:`c = w + \mu p H / G = -d`.
 
+**Released.** Slipped by :math:`d` as above (:math:`\tau = \mu p`), then a second
+problem without the top's condition continues it (``solve(after=...)``), the top loaded
+by the shear traction :math:`\mu p / 2` instead: it sticks, and the slip stays,
+:math:`c = d`, :math:`\lambda_t = \mu p / 2` (from rest, :math:`c` would be 0).
+
 Every step is checked, to the patch tests' bound :math:`\min(10^{-10}, 100 \epsilon n)`
 (:math:`n` unknowns) relative to :math:`p` (for :math:`\lambda`) and the largest
 displacement; the sets: all active, all or none sticking.
@@ -46,7 +51,9 @@ from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from paper.friction import (
     MATERIAL,
     G,
+    patch_bcs,
     patch_exact,
+    patch_loads,
     patch_pair,
     patch_path,
     patch_reference,
@@ -77,6 +84,21 @@ def _owned_max(values):
     return MPI.COMM_WORLD.allreduce(float(np.max(np.abs(values), initial=0.0)), op=MPI.MAX)
 
 
+def _check(problem, pair, V, part, u, lam_n, lam_t, tau, c, sticks):
+    total = pair.Q.dofmap.index_map.size_global
+    tol = min(1e-10, 100 * EPS * (V.dofmap.index_map.size_global * 2 + 2 * total))
+    step = problem.history.steps[-1]
+    assert step.converged
+    last = step.iterations[-1]
+    assert last.active == (total,) and last.stick == ((total,) if sticks else (0,))
+    m = pair.Q.dofmap.index_map.size_local
+    assert _owned_max(lam_n.x.array[:m] - P) <= tol * P
+    assert _owned_max(lam_t.x.array[:m] - tau) <= tol * P
+    reference = patch_reference(part, V, patch_exact(P, tau), c)
+    scale = _owned_max(reference.x.array)
+    assert _owned_max(u.x.array - reference.x.array) <= tol * scale
+
+
 @pytest.mark.parametrize("path", PATHS)
 @pytest.mark.parametrize("degree", [1, 2])
 def test_unloading(degree, path):
@@ -85,9 +107,6 @@ def test_unloading(degree, path):
     a, _, v = MATERIAL.forms(V)
     L, bcs, state = patch_path(part, V, v)
     pair = patch_pair(part, V, degree)
-    total = pair.Q.dofmap.index_map.size_global
-    n = V.dofmap.index_map.size_global * 2 + 2 * total
-    tol = min(1e-10, 100 * EPS * n)
     with FrictionalContactProblem(
         a, L, [pair], bcs, mu=MU, petsc_options_prefix="fr_unload_"
     ) as problem:
@@ -95,13 +114,25 @@ def test_unloading(degree, path):
             assert abs(w - (tau * H / G + c)) <= 4 * EPS  # the state's own top shift
             state(P, tau, c)
             (u,), (lam_n,), (lam_t,) = problem.solve([1.0], restart=k == 0)
-            step = problem.history.steps[-1]
-            assert step.converged
-            last = step.iterations[-1]
-            assert last.active == (total,) and last.stick == ((total,) if sticks else (0,))
-            m = pair.Q.dofmap.index_map.size_local
-            assert _owned_max(lam_n.x.array[:m] - P) <= tol * P, k
-            assert _owned_max(lam_t.x.array[:m] - tau) <= tol * P, k
-            reference = patch_reference(part, V, patch_exact(P, tau), c)
-            scale = _owned_max(reference.x.array)
-            assert _owned_max(u.x.array - reference.x.array) <= tol * scale, k
+            _check(problem, pair, V, part, u, lam_n, lam_t, tau, c, sticks)
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_unloading_released(degree):
+    """Slipped with the top held, then continued by a problem without that condition."""
+    part, V = patch_scene(degree)
+    a, _, v = MATERIAL.forms(V)
+    L, bcs, state = patch_path(part, V, v)
+    pair = patch_pair(part, V, degree)
+    with FrictionalContactProblem(
+        a, L, [pair], bcs, mu=MU, petsc_options_prefix="fr_held_"
+    ) as held:
+        state(P, MU * P, D)
+        (u,), (lam_n,), (lam_t,) = held.solve()
+        _check(held, pair, V, part, u, lam_n, lam_t, MU * P, D, False)
+        L_free = patch_loads(part, v, P, MU * P / 2)
+        with FrictionalContactProblem(
+            a, L_free, [pair], patch_bcs(part, V), mu=MU, petsc_options_prefix="fr_free_"
+        ) as free:
+            (u,), (lam_n,), (lam_t,) = free.solve(after=held)
+            _check(free, pair, V, part, u, lam_n, lam_t, MU * P / 2, D, True)
