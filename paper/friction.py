@@ -7,6 +7,11 @@ r"""The friction scenes of issue [4/6] in 2D, shared by ``tests/friction`` and t
   :math:`\delta` in four frictionless steps, then sideways in four steps with
   :math:`\mu = 0.2`; the stick half-width, :math:`q(x)` from :math:`\lambda_t` and
   :math:`p(x)` from :math:`\lambda_n` against Cattaneo and Mindlin's closed form.
+- :func:`half_disks`: the other FEniCSx contact package's friction demo, two half disks
+  :math:`R = 8` (:func:`half_disks_mesh`, a user's mesh refined around the poles) pressed
+  by a normal traction in four frictionless steps, then sheared by a tangential traction
+  in eight steps with :math:`\mu = 0.2` and the top's vertical motion held:
+  Hertz's :math:`a`, :math:`p_0` and Cattaneo and Mindlin's :math:`c`, :math:`q(x)`.
 - :func:`inclined_block`: a block pushed up a slope :math:`\tan\alpha = 0.1`, all of it
   sliding with :math:`\mu = 0.5`: the reaction's ratio
   :math:`(\mu + \tan\alpha)/(1 - \mu\tan\alpha)`.
@@ -31,8 +36,10 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
-from paper.hertz.scene import TAGS, hertz
+from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from paper.hertz.scene import GRADING, TAGS, hertz
 from paper.scenes_multi import two_blocks_one_mesh
 
 __all__ = [
@@ -45,6 +52,8 @@ __all__ = [
     "G",
     "cattaneo_mindlin",
     "cattaneo_mindlin_shear",
+    "half_disks",
+    "half_disks_mesh",
     "inclined_block",
     "patch_bcs",
     "patch_exact",
@@ -178,6 +187,238 @@ def cattaneo_mindlin(
         "c_error_elements": abs(c - c_exact) / h,
         "c_error": abs(c - c_exact) / c_exact,
         "q_L2_error": _relative_l2(x, q, lambda s: cattaneo_mindlin_shear(s, a, c_exact, p0), a),
+        "p_L2_error": _relative_l2(x, p, hertz_p, a),
+        "solves_per_step": solves,
+        "unknowns": unknowns,
+        "seconds": comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+    }
+    if keep_traction:
+        record.update(x=x, q=q, p=p)
+    return record
+
+
+#: The other package's half disks: radius, material, normal and tangential tractions on
+#: the upper flat face (F = 10 and Q = 0.936 per unit thickness over its width 2R), mu.
+HD_R, HD_E, HD_NU, HD_P, HD_Q, HD_MU = 8.0, 200.0, 0.3, 0.625, 0.05851, 0.2
+#: Facet tags of :func:`half_disks_mesh` (the axes x = 0 are interior lines).
+HD_TAGS = {"contactor": 10, "upper_top": 11, "upper_rest": 12, "target": 20, "lower_bottom": 21}
+
+
+def _half_disk(geo: typing.Any, R: float, side: int) -> tuple[list[int], dict[str, list[int]]]:
+    """The half of the disk about (0, side R) that touches the origin: quarters, curves."""
+    centre, pole = geo.addPoint(0.0, side * R, 0.0), geo.addPoint(0.0, 0.0, 0.0)
+    right, left = geo.addPoint(R, side * R, 0.0), geo.addPoint(-R, side * R, 0.0)
+    x, y = R * math.sin(math.pi / 6), side * R * (1 - math.cos(math.pi / 6))
+    r30, l30 = geo.addPoint(x, y, 0.0), geo.addPoint(-x, y, 0.0)
+    near = [geo.addCircleArc(pole, centre, r30), geo.addCircleArc(l30, centre, pole)]
+    rest = [geo.addCircleArc(r30, centre, right), geo.addCircleArc(left, centre, l30)]
+    flat = [geo.addLine(right, centre), geo.addLine(centre, left)]
+    axis = geo.addLine(centre, pole)
+    loops = [[near[0], rest[0], flat[0], axis], [-axis, flat[1], rest[1], near[1]]]
+    if side < 0:  # counterclockwise below the origin too
+        loops = [[-c for c in reversed(loop)] for loop in loops]
+    surfaces = [geo.addPlaneSurface([geo.addCurveLoop(loop)]) for loop in loops]
+    return surfaces, {"near": near, "rest": rest, "flat": flat, "pole": [pole]}
+
+
+def half_disks_mesh(
+    comm: MPI.Comm, h: float, *, refine: float = 1.0, far: float = 1.0, geometry_degree: int = 1
+) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags, dolfinx.mesh.MeshTags]:
+    r"""Two half disks of radius :data:`HD_R` touching at their poles, as a user meshes them.
+
+    The upper one is the lower half of the disk about :math:`(0, R)`, the lower one the
+    upper half of the disk about :math:`(0, -R)`; each is two quarters (the axis
+    :math:`x = 0` a mesh line). Triangles of size ``h`` within ``refine`` of the poles
+    (a size field of the user's guess, not of the answer), growing at the slope
+    :data:`paper.hertz.scene.GRADING` to ``far``. The contact surfaces are the arcs within
+    30 degrees of the poles (:data:`HD_TAGS`).
+
+    Returns:
+        The mesh, its cell tags (upper 1, lower 2) and facet tags.
+    """
+    options = {
+        "Mesh.MeshSizeExtendFromBoundary": 0,
+        "Mesh.MeshSizeFromPoints": 0,
+        "Mesh.MeshSizeFromCurvature": 0,
+        "Mesh.Algorithm": 6,
+    }
+    with gmsh_session() as gmsh:
+        saved = {name: gmsh.option.getNumber(name) for name in options}
+        for name, value in options.items():
+            gmsh.option.setNumber(name, value)
+        gmsh.model.add("half_disks")
+        if comm.rank == 0:
+            geo = gmsh.model.geo
+            upper, up = _half_disk(geo, HD_R, 1)
+            lower, low = _half_disk(geo, HD_R, -1)
+            geo.synchronize()
+            gmsh.model.addPhysicalGroup(2, upper, 1, name="upper")
+            gmsh.model.addPhysicalGroup(2, lower, 2, name="lower")
+            for name, curves in (
+                ("contactor", up["near"]),
+                ("upper_top", up["flat"]),
+                ("upper_rest", up["rest"]),
+                ("target", low["near"]),
+                ("lower_bottom", low["flat"]),
+            ):
+                gmsh.model.addPhysicalGroup(1, curves, HD_TAGS[name], name=name)
+            field = gmsh.model.mesh.field
+            distance = field.add("Distance")
+            field.setNumbers(distance, "PointsList", up["pole"] + low["pole"])
+            threshold = field.add("Threshold")
+            field.setNumber(threshold, "InField", distance)
+            field.setNumber(threshold, "SizeMin", h)
+            field.setNumber(threshold, "SizeMax", far)
+            field.setNumber(threshold, "DistMin", refine)
+            field.setNumber(threshold, "DistMax", refine + (far - h) / GRADING)
+            field.setAsBackgroundMesh(threshold)
+            gmsh.model.mesh.generate(2)
+            gmsh.model.mesh.setOrder(geometry_degree)
+        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        gmsh.model.remove()
+        for name, value in saved.items():
+            gmsh.option.setNumber(name, value)
+    return mesh, cell_tags, facet_tags
+
+
+def _resultant(
+    pair: typing.Any, V: dolfinx.fem.FunctionSpace, cells: np.ndarray, lam: list
+) -> np.ndarray:
+    r"""The load on the body of ``cells`` that :math:`\lambda_n, \lambda_t` balance.
+
+    The saddle point's :math:`\mathbf B_t^T \lambda_t - \mathbf B_n^T \lambda_n` on the
+    body's rigid translations (:math:`\mathbf K \mathbf U` vanishes there): without a
+    Dirichlet condition along a direction, the body's applied load, to round-off.
+    """
+    ops = [assemble_coupling(pair), assemble_coupling(pair, tangential=True)]
+    blocks = np.unique(V.dofmap.list[cells])
+    out = np.zeros(2)
+    for k in range(2):
+        e = dolfinx.fem.Function(V)
+        e.x.array[2 * blocks + k] = 1.0
+        for sign, op, values in zip((-1.0, 1.0), ops, lam, strict=True):
+            w = op.G.duplicate()
+            op.blocks[0][1].mult(e.x.petsc_vec, w)
+            out[k] += sign * float(np.dot(values[: w.getLocalSize()], w.array_r))
+            w.destroy()
+    for op in ops:
+        op.destroy()
+    return pair.Q.mesh.comm.allreduce(out)
+
+
+def half_disks(
+    comm: MPI.Comm, degree: int, h: float = 0.1, *, keep_traction: bool = False
+) -> dict[str, typing.Any]:
+    r"""The other package's friction demo: two half disks, a normal then a tangential load.
+
+    Plane strain, :math:`E = 200`, :math:`\nu = 0.3`, :math:`R = 8`
+    (:func:`half_disks_mesh` with size ``h`` at the poles, geometry degree ``degree``),
+    the lower flat face clamped. A normal traction :math:`0.625` on the upper flat face
+    (:math:`F = 10`) in four frictionless steps, the axes :math:`x = 0` held at
+    :math:`u_x = 0` (symmetry; nothing else holds the upper body sideways without
+    friction); then a second problem on the same spaces, continuing the first
+    (``solve(after=...)``) with the axes released and the top's vertical motion held:
+    a tangential traction :math:`0.05851` (:math:`Q = 0.936`) in eight steps with
+    :math:`\mu = 0.2`. Hertz with :math:`R_e = R/2`: :math:`a = 2\sqrt{F R_e/(\pi
+    E^*)} = 0.681`, :math:`p_0 = 2F/(\pi a) = 9.35`; Cattaneo and Mindlin:
+    :math:`c = a\sqrt{1 - Q/(\mu F)} = 0.729 a`.
+
+    Returns:
+        A record: the applied ``F``, ``Q``; the loads on the upper body that the contact
+        tractions balance (from the couplings, :func:`_resultant`): ``P_normal``
+        (downward) after the normal steps, ``P`` (downward) and ``Q_measured`` (along
+        :math:`x`) at the end; ``a``, ``p0``, ``c_exact`` (from ``F``, ``Q``); the
+        measured ``a_measured`` (outermost active node), ``p0_measured`` (largest
+        :math:`\lambda_n`) and ``c`` (outermost sticking node),
+        ``c_error_elements``, ``q_L2_error``, ``p_L2_error``, ``solves_per_step``,
+        ``unknowns``, ``seconds``; with ``keep_traction`` also ``x``, ``q``, ``p``.
+    """
+    begin = time.perf_counter()
+    mesh, cell_tags, tags = half_disks_mesh(comm, h, geometry_degree=degree)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
+    a_form, _, v = Material(E=HD_E, nu=HD_NU).forms(V)
+    traction = dolfinx.fem.Constant(mesh, np.zeros(2))
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+    L = ufl.inner(traction, v) * ds(HD_TAGS["upper_top"])
+    fdim = mesh.topology.dim - 1
+    clamp = dolfinx.fem.dirichletbc(
+        np.zeros(2),
+        dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(HD_TAGS["lower_bottom"])),
+        V,
+    )
+    axes = dolfinx.mesh.locate_entities(mesh, fdim, lambda x: np.isclose(x[0], 0.0))
+    symmetry = dolfinx.fem.dirichletbc(
+        dolfinx.default_scalar_type(0),
+        dolfinx.fem.locate_dofs_topological(V.sub(0), fdim, axes),
+        V.sub(0),
+    )
+    Vy, to_y = V.sub(1).collapse()
+    held = dolfinx.fem.Function(Vy)
+    top = dolfinx.fem.locate_dofs_topological((V.sub(1), Vy), fdim, tags.find(HD_TAGS["upper_top"]))
+    pair = contact_pair(
+        contact_surface(V, tags, HD_TAGS["contactor"]), contact_surface(V, tags, HD_TAGS["target"])
+    )
+    upper = cell_tags.find(1)
+    F, Q = 2 * HD_R * HD_P, 2 * HD_R * HD_Q
+    solves = []
+    with FrictionalContactProblem(
+        a_form, L, [pair], [clamp, symmetry], mu=HD_MU, petsc_options_prefix=f"hd{degree}n_"
+    ) as normal:
+        traction.value[:] = (0.0, -HD_P)
+        (u,), (lam_n,), (lam_t,) = normal.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
+        solves += [len(s.iterations) for s in normal.history.steps]
+        P_normal = -_resultant(pair, V, upper, [lam_n.x.array, lam_t.x.array])[1]
+        held.x.array[:] = u.x.array[to_y]
+        with FrictionalContactProblem(
+            a_form,
+            L,
+            [pair],
+            [clamp, dolfinx.fem.dirichletbc(held, top, V.sub(1))],
+            mu=HD_MU,
+            petsc_options_prefix=f"hd{degree}t_",
+        ) as problem:
+            for k in range(1, 9):
+                traction.value[:] = (HD_Q * k / 8, -HD_P)
+                (u,), (lam_n,), (lam_t,) = problem.solve(
+                    [1.0], restart=False, after=normal if k == 1 else None
+                )
+                solves += [len(s.iterations) for s in problem.history.steps]
+            Q_measured, P = _resultant(pair, V, upper, [lam_n.x.array, lam_t.x.array]) * [1, -1]
+            n = pair.Q.dofmap.index_map.size_local
+            x = _gather(comm, pair.Q.tabulate_dof_coordinates()[:n, 0])
+            q, p = _gather(comm, lam_t.x.array[:n]), _gather(comm, lam_n.x.array[:n])
+            stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
+            active = _gather(comm, problem.active[0].x.array[:n]) > 0.5
+    unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
+    E_star, R_e = HD_E / (2 * (1 - HD_NU**2)), HD_R / 2
+    a = 2 * math.sqrt(F * R_e / (math.pi * E_star))
+    p0 = 2 * F / (math.pi * a)
+    c_exact = a * math.sqrt(1 - Q / (HD_MU * F))
+    c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
+
+    def hertz_p(s):
+        return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
+
+    record = {
+        "scene": "half-disks",
+        "degree": degree,
+        "h": h,
+        "F": F,
+        "Q": Q,
+        "P_normal": P_normal,
+        "P": P,
+        "Q_measured": Q_measured,
+        "Q_over_muP": Q / (HD_MU * F),
+        "a": a,
+        "a_measured": float(np.max(np.abs(x[active]))),
+        "p0": p0,
+        "p0_measured": float(np.max(p)),
+        "c_exact": c_exact,
+        "c": c,
+        "c_error_elements": abs(c - c_exact) / h,
+        "q_L2_error": _relative_l2(
+            x, q, lambda s: cattaneo_mindlin_shear(s, a, c_exact, p0, HD_MU), a
+        ),
         "p_L2_error": _relative_l2(x, p, hertz_p, a),
         "solves_per_step": solves,
         "unknowns": unknowns,
