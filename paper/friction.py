@@ -39,6 +39,7 @@ from dolfinx_contact_s2s import Material, contact_pair, contact_surface
 from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.meshing import gmsh_session, model_to_mesh
+from dolfinx_contact_s2s.postprocess import contact_zones
 from paper.hertz.scene import GRADING, TAGS, hertz
 from paper.scenes_multi import two_blocks_one_mesh
 
@@ -110,11 +111,17 @@ def cattaneo_mindlin(
     :math:`P` and :math:`Q` are the integrals of :math:`\lambda_n` and :math:`\lambda_t`;
     Hertz with :math:`R_e = R/2`, :math:`E^* = E/(2(1-\nu^2))` gives :math:`a` and
     :math:`p_0`, and :math:`c = a\sqrt{1 - Q/(\mu P)}`. The measured :math:`c` is the
-    largest :math:`|x|` of a sticking multiplier node.
+    largest :math:`|x|` of a sticking multiplier node; ``c_middle`` the middles of the
+    brackets of the stick zone's ends (last sticking and first slipping node,
+    :func:`~dolfinx_contact_s2s.postprocess.contact_zones` on the stick set), within
+    half a node spacing of :math:`c` where a bracket holds it (not always: the
+    discrete stick zone can sit a node off centre).
 
     Returns:
         A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
-        ``c_error_elements``, ``c_error``, ``q_L2_error``, ``p_L2_error``,
+        ``c_error_elements``, ``c_error``, ``c_bracketed`` (every end's bracket holds
+        :math:`c`), ``c_middle`` and ``c_middle_error`` (the brackets' middles, the
+        larger error of the two ends), ``q_L2_error``, ``p_L2_error``,
         ``solves_per_step``, ``unknowns``, ``seconds``; with ``keep_traction`` also
         ``x``, ``q``, ``p`` (gathered, every rank).
     """
@@ -162,12 +169,20 @@ def cattaneo_mindlin(
         q, p = _gather(comm, lam_t.x.array[:n]), _gather(comm, lam_n.x.array[:n])
         stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
         unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
+        # The stick zone's ends, each bracketed by its last sticking and first slipping node.
+        ends = [
+            e
+            for z in contact_zones(pair, problem.stick[0], problem.stick[0], estimate="middle")
+            for e in (z.start, z.end)
+        ]
     E_star, R_e = E / (2 * (1 - NU**2)), CM_R / 2
     a = 2 * math.sqrt(P * R_e / (math.pi * E_star))
     p0 = 2 * P / (math.pi * a)
     c_exact = a * math.sqrt(1 - Q / (CM_MU * P))
     h = 2 * CM_A / across  # the element size at the contact
     c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
+    inside, outside = (np.abs([e.bracket_points[k][0] for e in ends]) for k in (0, 1))
+    middles = np.abs([e.point[0] for e in ends])
 
     def hertz_p(s):
         return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
@@ -186,6 +201,9 @@ def cattaneo_mindlin(
         "h": h,
         "c_error_elements": abs(c - c_exact) / h,
         "c_error": abs(c - c_exact) / c_exact,
+        "c_bracketed": bool(np.all((inside <= c_exact) & (c_exact <= outside))),
+        "c_middle": float(np.mean(middles)),
+        "c_middle_error": float(np.max(np.abs(middles - c_exact))) / c_exact,
         "q_L2_error": _relative_l2(x, q, lambda s: cattaneo_mindlin_shear(s, a, c_exact, p0), a),
         "p_L2_error": _relative_l2(x, p, hertz_p, a),
         "solves_per_step": solves,
