@@ -268,8 +268,8 @@ def test_bad_mu(key, value):
 
 
 def test_not_converged_raises_with_sets():
-    """Shear above mu times the normal load: no equilibrium, the sets in the error."""
-    with pytest.raises(ContactConvergenceError, match="stick") as error:
+    """Shear above mu times the normal load: no equilibrium; the body named, the sets kept."""
+    with pytest.raises(ContactConvergenceError, match="nothing else holds it") as error:
         _solve_uneven(MPI.COMM_WORLD, 1, 0.2, 0.4, [1.0], "fr_fail_")
     assert not error.value.history.steps[-1].converged
 
