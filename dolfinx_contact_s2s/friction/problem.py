@@ -43,8 +43,6 @@ def _check(mu: float, pairs: Sequence[ContactPair], name: str = "friction coeffi
     if not (isinstance(mu, (int, float, np.floating)) and np.isfinite(mu) and mu >= 0):
         return f"the {name} must be a finite number >= 0, not {mu!r}"
     for pair in pairs:
-        if pair.axisymmetric:
-            return "friction is implemented for plane (2D) and 3D models, not axisymmetric ones"
         if pair.obstacles or any(getattr(t, "rigid", False) for t in pair.targets):
             return "friction is implemented against meshed deformable targets only"
     try:
@@ -108,7 +106,7 @@ class FrictionalContactProblem(ContactProblemBase):
         Args:
             a: Bilinear form of each displacement space.
             L: Linear form of each displacement space.
-            pairs: Contact pairs (2D or 3D, meshed deformable targets).
+            pairs: Contact pairs (plane, axisymmetric or 3D; meshed deformable targets).
             bcs: Dirichlet conditions.
             mu: Coulomb's friction coefficient :math:`\mu \ge 0`.
             slip_bound: Tresca's law instead: the given bound :math:`g \ge 0` of
@@ -129,8 +127,8 @@ class FrictionalContactProblem(ContactProblemBase):
 
         Raises:
             ValueError: On every rank, for :math:`\mu` negative, NaN or infinite, a bad
-                parameter, ``kind="nest"``, an axisymmetric or rigid-target pair, or a
-                tangent basis that degenerates on a contact surface.
+                parameter, ``kind="nest"``, a rigid-target pair, or a tangent basis that
+                degenerates on a contact surface.
         """
         if options.get("kind", "aij") != "aij":
             raise ValueError("friction needs kind='aij' (an unsymmetric system, factorized)")
