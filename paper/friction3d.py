@@ -68,6 +68,7 @@ __all__ = [
     "E",
     "cattaneo_mindlin",
     "extruded",
+    "extruded_scene",
     "inclined_block",
     "patch",
 ]
@@ -334,32 +335,10 @@ def cattaneo_mindlin(
     }
 
 
-def extruded(
-    gdim: int,
-    degree: int,
-    comm: MPI.Comm = MPI.COMM_WORLD,
-    mu: float = 0.3,
-    plane_strain: bool = True,
-    loads: typing.Sequence[float] = (0.5, 1.0),
-) -> dict[str, typing.Any]:
-    r"""A punch-like partial-slip scene in 2D (quadrilaterals) or extruded (hexahedra).
-
-    The lower block :math:`[0, 1] \times [0, 1/2]` (6 x 3 cells, its bottom clamped), the
-    narrower upper block :math:`[0.2, 0.8] \times [1/2, 1]` (5 x 3 cells, its top moved
-    by :math:`(0.004, -0.01)` in two steps), both P``degree`` (Q), one mesh each; in 3D
-    each block is one layer of thickness 1/4 along :math:`z` with :math:`u_z = 0`
-    everywhere (``plane_strain``; else :math:`u_z` is free: a slab). The contactor is
-    the upper block's bottom, the multiplier of degree ``degree``; ``loads`` the factors
-    of the top's motion.
-
-    Returns:
-        Every multiplier node (gathered, every rank): ``x`` (its coordinates),
-        ``pressure``, ``shear`` (along :math:`x`, from the contactor on the target) and
-        ``normal_shear`` (along :math:`z`, 3D), ``stick`` and ``active``, and the
-        tangential components of :math:`\lambda_t` and of :math:`\mathbf B_t
-        \mathbf U` (``traction``, ``slip``, ``(n, gdim - 1)``); the ``sets`` of every
-        iteration.
-    """
+def extruded_scene(
+    gdim: int, degree: int, comm: MPI.Comm = MPI.COMM_WORLD, plane_strain: bool = True
+) -> tuple[list, list, list, typing.Any, list]:
+    """The forms, conditions, pair and spaces of :func:`extruded`'s scene."""
     cell = dolfinx.mesh.CellType.quadrilateral if gdim == 2 else dolfinx.mesh.CellType.hexahedron
     spaces, forms, bcs = [], [], []
     for box, n, fixed, top in (
@@ -390,7 +369,8 @@ def extruded(
             dofs = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(1))
             bcs.append(dolfinx.fem.dirichletbc(np.zeros(gdim), dofs, V))
         if top:
-            for k, value in ((0, 0.004), (1, -0.01)):
+            held = ((0, 0.004), (1, -0.01)) + (((2, 0.0),) if gdim == 3 else ())
+            for k, value in held:
                 dofs = dolfinx.fem.locate_dofs_topological(V.sub(k), fdim, tags.find(2))
                 bcs.append(dolfinx.fem.dirichletbc(value, dofs, V.sub(k)))
         if gdim == 3 and plane_strain:
@@ -405,7 +385,37 @@ def extruded(
         contact_surface(V_lo, t_lo, 2),
         multiplier=("Lagrange", degree),
     )
-    a, L = [f for f, _ in forms], [f for _, f in forms]
+    return [f for f, _ in forms], [f for _, f in forms], bcs, pair, spaces
+
+
+def extruded(
+    gdim: int,
+    degree: int,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    mu: float = 0.3,
+    plane_strain: bool = True,
+    loads: typing.Sequence[float] = (0.5, 1.0),
+) -> dict[str, typing.Any]:
+    r"""A punch-like partial-slip scene in 2D (quadrilaterals) or extruded (hexahedra).
+
+    The lower block :math:`[0, 1] \times [0, 1/2]` (6 x 3 cells, its bottom clamped), the
+    narrower upper block :math:`[0.2, 0.8] \times [1/2, 1]` (5 x 3 cells, its top moved
+    by :math:`(0.004, -0.01)` in two steps, :math:`u_z = 0` there in 3D), both
+    P``degree`` (Q), one mesh each; in 3D each block is one layer of thickness 1/4 along
+    :math:`z` with :math:`u_z = 0` everywhere (``plane_strain``; else :math:`u_z` is free
+    but on the top and bottom: a slab). The contactor is
+    the upper block's bottom, the multiplier of degree ``degree``; ``loads`` the factors
+    of the top's motion.
+
+    Returns:
+        Every multiplier node (gathered, every rank): ``x`` (its coordinates),
+        ``pressure``, ``shear`` (along :math:`x`, from the contactor on the target) and
+        ``normal_shear`` (along :math:`z`, 3D), ``stick`` and ``active``, and the
+        tangential components of :math:`\lambda_t` and of :math:`\mathbf B_t
+        \mathbf U` (``traction``, ``slip``, ``(n, gdim - 1)``); the ``sets`` of every
+        iteration.
+    """
+    a, L, bcs, pair, spaces = extruded_scene(gdim, degree, comm, plane_strain)
     with FrictionalContactProblem(
         a, L, [pair], bcs, mu=mu, petsc_options_prefix=f"ext{gdim}_"
     ) as problem:

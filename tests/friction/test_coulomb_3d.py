@@ -23,8 +23,9 @@ from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.friction.coulomb import tangent_axis
 from dolfinx_contact_s2s.kernels.face_backend import tangents
+from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
 from paper.blocks3d import BOTTOM, TOP, scene
-from paper.friction3d import extruded, inclined_block, patch
+from paper.friction3d import extruded, extruded_scene, inclined_block, patch
 
 BOUND = 1e-10
 
@@ -197,3 +198,24 @@ def test_inclined_block(cells, degree):
     record = inclined_block(MPI.COMM_WORLD, degree, cells=cells)
     assert record["sliding"]
     assert record["error"] <= 1e-8
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_mu_zero_is_frictionless(degree):
+    """The slab with mu = 0: the frictionless unilateral answer, lambda_t = 0, to 1e-10."""
+    a, L, bcs, pair, _ = extruded_scene(3, degree, plane_strain=False)
+    with UnilateralContactProblem(a, L, [pair], bcs, petsc_options_prefix="mu0u_") as ref:
+        us, (lam,) = ref.solve([0.5, 1.0])
+        expected = [u.x.array.copy() for u in us], lam.x.array.copy()
+    a, L, bcs, pair, _ = extruded_scene(3, degree, plane_strain=False)
+    with FrictionalContactProblem(a, L, [pair], bcs, mu=0.0, petsc_options_prefix="mu0f_") as pb:
+        us, (lam_n,), lam_t = pb.solve([0.5, 1.0])
+        worst = MPI.COMM_WORLD.allreduce
+        scale = worst(float(np.max(np.abs(expected[1]))), op=MPI.MAX)
+        assert worst(float(np.max(np.abs(lam_n.x.array - expected[1]))), op=MPI.MAX) <= (
+            BOUND * scale
+        )
+        for u, e in zip(us, expected[0], strict=True):
+            size = worst(float(np.max(np.abs(e))), op=MPI.MAX)
+            assert worst(float(np.max(np.abs(u.x.array - e))), op=MPI.MAX) <= BOUND * size
+        assert all(worst(float(np.max(np.abs(f.x.array))), op=MPI.MAX) == 0.0 for f in lam_t)
