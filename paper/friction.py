@@ -103,6 +103,24 @@ def _relative_l2(x: np.ndarray, values: np.ndarray, exact: typing.Callable, a: f
     return math.sqrt(np.trapezoid(error**2, fine) / np.trapezoid(reference**2, fine))
 
 
+def _two_cylinders(
+    P: float, Q: float, E: float, nu: float, R: float, mu: float
+) -> tuple[float, float, float, typing.Callable]:
+    r"""Hertz and Cattaneo-Mindlin for two identical cylinders of radius ``R``, per length.
+
+    :math:`R_e = R/2`, :math:`E^* = E/(2(1-\nu^2))`: :math:`a = 2\sqrt{P R_e/(\pi E^*)}`,
+    :math:`p_0 = 2P/(\pi a)`, :math:`c = a\sqrt{1 - Q/(\mu P)}` and :math:`p(x)`.
+    """
+    E_star, R_e = E / (2 * (1 - nu**2)), R / 2
+    a = 2 * math.sqrt(P * R_e / (math.pi * E_star))
+    p0 = 2 * P / (math.pi * a)
+
+    def pressure(s):
+        return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
+
+    return a, p0, a * math.sqrt(1 - Q / (mu * P)), pressure
+
+
 def cattaneo_mindlin(
     comm: MPI.Comm, degree: int, across: int = 20, *, keep_traction: bool = False
 ) -> dict[str, typing.Any]:
@@ -183,17 +201,11 @@ def cattaneo_mindlin(
             for z in contact_zones(pair, problem.stick[0], problem.stick[0], estimate="middle")
             for e in (z.start, z.end)
         ]
-    E_star, R_e = E / (2 * (1 - NU**2)), CM_R / 2
-    a = 2 * math.sqrt(P * R_e / (math.pi * E_star))
-    p0 = 2 * P / (math.pi * a)
-    c_exact = a * math.sqrt(1 - Q / (CM_MU * P))
+    a, p0, c_exact, hertz_p = _two_cylinders(P, Q, E, NU, CM_R, CM_MU)
     h = 2 * CM_A / across  # the element size at the contact
     c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
     inside, outside = (np.abs([e.bracket_points[k][0] for e in ends]) for k in (0, 1))
     middles = np.abs([e.point[0] for e in ends])
-
-    def hertz_p(s):
-        return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
 
     record = {
         "scene": "cattaneo-mindlin",
@@ -417,14 +429,8 @@ def half_disks(
             stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
             active = _gather(comm, problem.active[0].x.array[:n]) > 0.5
     unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
-    E_star, R_e = HD_E / (2 * (1 - HD_NU**2)), HD_R / 2
-    a = 2 * math.sqrt(F * R_e / (math.pi * E_star))
-    p0 = 2 * F / (math.pi * a)
-    c_exact = a * math.sqrt(1 - Q / (HD_MU * F))
+    a, p0, c_exact, hertz_p = _two_cylinders(F, Q, HD_E, HD_NU, HD_R, HD_MU)
     c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
-
-    def hertz_p(s):
-        return p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
 
     record = {
         "scene": "half-disks",
