@@ -13,5 +13,6 @@ This package needs petsc4py and must be imported explicitly.
 
 from dolfinx_contact_s2s.friction.coulomb import CoulombFriction
 from dolfinx_contact_s2s.friction.problem import FrictionalContactProblem
+from dolfinx_contact_s2s.friction.regularized import RegularizedFrictionProblem
 
-__all__ = ["CoulombFriction", "FrictionalContactProblem"]
+__all__ = ["CoulombFriction", "FrictionalContactProblem", "RegularizedFrictionProblem"]
