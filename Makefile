@@ -37,6 +37,8 @@ demo:
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_friction.py
 	$(ENV_RUN) python3 demos/demo_friction_3d.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_friction_3d.py
+	$(ENV_RUN) python3 demos/demo_friction_penalty.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_friction_penalty.py
 
 ## bench: every performance figure of issues 11 and 21 (3D: P9-P11) as a ratio measured in one run
 ## -> results/bench/*.json, plots and the performance section of results/report.md (about 10-20
@@ -172,6 +174,8 @@ smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction_3d.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_3d.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:
