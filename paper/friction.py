@@ -52,6 +52,7 @@ __all__ = [
     "E",
     "G",
     "cattaneo_mindlin",
+    "cattaneo_mindlin_scene",
     "cattaneo_mindlin_shear",
     "half_disks",
     "half_disks_mesh",
@@ -121,30 +122,13 @@ def _two_cylinders(
     return a, p0, a * math.sqrt(1 - Q / (mu * P)), pressure
 
 
-def cattaneo_mindlin(
-    comm: MPI.Comm, degree: int, across: int = 20, *, keep_traction: bool = False
-) -> dict[str, typing.Any]:
-    r"""Cattaneo-Mindlin in 2D at about ``across`` elements across :math:`2a`.
+def cattaneo_mindlin_scene(comm: MPI.Comm, degree: int, across: int) -> tuple:
+    r"""The forms, conditions, pair and the upper face's motion of :func:`cattaneo_mindlin`.
 
-    :math:`P` and :math:`Q` are the integrals of :math:`\lambda_n` and :math:`\lambda_t`;
-    Hertz with :math:`R_e = R/2`, :math:`E^* = E/(2(1-\nu^2))` gives :math:`a` and
-    :math:`p_0`, and :math:`c = a\sqrt{1 - Q/(\mu P)}`. The measured :math:`c` is the
-    largest :math:`|x|` of a sticking multiplier node; ``c_middle`` the middles of the
-    brackets of the stick zone's ends (last sticking and first slipping node,
-    :func:`~dolfinx_contact_s2s.postprocess.contact_zones` on the stick set), within
-    half a node spacing of :math:`c` where a bracket holds it (not always: the
-    discrete stick zone can sit a node off centre).
-
-    Returns:
-        A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
-        ``c_error_elements``, ``c_error``, ``c_bracketed`` (every end's bracket holds
-        :math:`c`), ``c_middle``, ``c_middle_error`` and ``c_middle_error_elements``
-        (the brackets' middles, the larger error of the two ends, relative and in
-        elements), ``q_L2_error``, ``p_L2_error``,
-        ``solves_per_step``, ``unknowns``, ``seconds``; with ``keep_traction`` also
-        ``x``, ``q``, ``p`` (gathered, every rank).
+    Two half cylinders :math:`R = 1` graded for :math:`a = 0.05` at ``across`` elements
+    across :math:`2a`, no mesh node placed at :math:`x = \pm a`; the lower flat face
+    clamped, the upper one moved by the returned function ``motion``.
     """
-    begin = time.perf_counter()
     # No mesh nodes at x = +-a (edge_nodes=False): a user's mesh knows no contact edge.
     scene = hertz(
         comm,
@@ -170,6 +154,35 @@ def cattaneo_mindlin(
     pair = contact_pair(
         contact_surface(V, tags, TAGS["contactor"]), contact_surface(V, tags, TAGS["target"])
     )
+    return a_form, L, bcs, pair, motion
+
+
+def cattaneo_mindlin(
+    comm: MPI.Comm, degree: int, across: int = 20, *, keep_traction: bool = False
+) -> dict[str, typing.Any]:
+    r"""Cattaneo-Mindlin in 2D at about ``across`` elements across :math:`2a`.
+
+    :math:`P` and :math:`Q` are the integrals of :math:`\lambda_n` and :math:`\lambda_t`;
+    Hertz with :math:`R_e = R/2`, :math:`E^* = E/(2(1-\nu^2))` gives :math:`a` and
+    :math:`p_0`, and :math:`c = a\sqrt{1 - Q/(\mu P)}`. The measured :math:`c` is the
+    largest :math:`|x|` of a sticking multiplier node; ``c_middle`` the middles of the
+    brackets of the stick zone's ends (last sticking and first slipping node,
+    :func:`~dolfinx_contact_s2s.postprocess.contact_zones` on the stick set), within
+    half a node spacing of :math:`c` where a bracket holds it (not always: the
+    discrete stick zone can sit a node off centre).
+
+    Returns:
+        A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
+        ``c_error_elements``, ``c_error``, ``c_bracketed`` (every end's bracket holds
+        :math:`c`), ``c_middle``, ``c_middle_error`` and ``c_middle_error_elements``
+        (the brackets' middles, the larger error of the two ends, relative and in
+        elements), ``q_L2_error``, ``p_L2_error``,
+        ``solves_per_step``, ``unknowns``, ``seconds``; with ``keep_traction`` also
+        ``x``, ``q``, ``p`` (gathered, every rank).
+    """
+    begin = time.perf_counter()
+    a_form, L, bcs, pair, motion = cattaneo_mindlin_scene(comm, degree, across)
+    V = pair.contactor.V
 
     def integral(f):
         return comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx)))

@@ -24,7 +24,6 @@ import dolfinx
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.friction import FrictionalContactProblem, RegularizedFrictionProblem
 from paper.friction import (
     CM_A,
@@ -32,12 +31,11 @@ from paper.friction import (
     CM_MU,
     CM_R,
     CM_SHIFT,
-    MATERIAL,
     NU,
     E,
+    cattaneo_mindlin_scene,
     cattaneo_mindlin_shear,
 )
-from paper.hertz.scene import TAGS, hertz
 
 __all__ = ["relative_l2", "solve_path", "study"]
 
@@ -79,30 +77,8 @@ def study(
         ``q_L2_error``, ``p_L2_error`` (relative L2 distances over :math:`[-a, a]`), and
         against the closed form ``q_exact_L2_error``, ``c_exact_error_elements``.
     """
-    scene = hertz(
-        comm,
-        R=CM_R,
-        a=CM_A,
-        elements_across=across,
-        lower_radius=CM_R,
-        geometry_degree=degree,
-        edge_nodes=False,  # as paper.friction.cattaneo_mindlin: no node placed at x = +-a
-    )
-    mesh, tags = scene.mesh, scene.facet_tags
-    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
-    a_form, _, v = MATERIAL.forms(V)
-    L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(2)), v) * ufl.dx
-    motion = dolfinx.fem.Function(V)
-    fdim = mesh.topology.dim - 1
-    top = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(TAGS["upper_top"]))
-    bottom = dolfinx.fem.locate_dofs_topological(V, fdim, tags.find(TAGS["lower_bottom"]))
-    bcs = [
-        dolfinx.fem.dirichletbc(motion, top),
-        dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), bottom),
-    ]
-    pair = contact_pair(
-        contact_surface(V, tags, TAGS["contactor"]), contact_surface(V, tags, TAGS["target"])
-    )
+    a_form, L, bcs, pair, motion = cattaneo_mindlin_scene(comm, degree, across)
+    V = pair.contactor.V
     n = pair.Q.dofmap.index_map.size_local
     x = np.concatenate(comm.allgather(pair.Q.tabulate_dof_coordinates()[:n, 0]))
     h = 2 * CM_A / across
