@@ -41,8 +41,6 @@ This module needs petsc4py and must be imported explicitly.
 
 from __future__ import annotations
 
-import typing
-
 from mpi4py import MPI
 from petsc4py import PETSc
 
@@ -111,11 +109,6 @@ def _diagonal(like: PETSc.Vec, values: npt.NDArray[np.floating]) -> PETSc.Mat:
     D.assemble()
     d.destroy()
     return D
-
-
-def _block(op: CouplingOperator, V: typing.Any) -> PETSc.Mat:
-    """The block of ``op`` on the displacement space ``V``."""
-    return next(B for W, B in op.blocks if W is V)
 
 
 class CoulombFriction:
@@ -312,7 +305,7 @@ class CoulombFriction:
                     i = system.space_index(V)
                     rows = None
                     for w, other in zip(W, ops, strict=True):
-                        scaled, weights = _block(other, V).copy(), self._vec(w)
+                        scaled, weights = other.block(V).copy(), self._vec(w)
                         scaled.diagonalScale(weights, system.masks[i])
                         weights.destroy()
                         if rows is None:
@@ -320,7 +313,7 @@ class CoulombFriction:
                         else:
                             rows.axpy(1.0, scaled, PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
                             scaled.destroy()
-                    columns = _block(op, V).copy()
+                    columns = op.block(V).copy()
                     columns.diagonalScale(on, system.masks[i])
                     blocks[f][i] = rows
                     blocks[i][f] = columns.transpose(PETSc.Mat())

@@ -92,7 +92,7 @@ def test_tangential_coupling_of_a_translation(degree):
     ops = [assemble_coupling(pair)] + [assemble_coupling(pair, k, axis) for k in (1, 2)]
 
     def row_sums(op, V, vector):
-        block = next(B for W, B in op.blocks if W is V)
+        block = op.block(V)
         x, y = block.createVecs()
         x.array[:] = np.tile(vector, x.getLocalSize() // 3)
         block.mult(x, y)
