@@ -21,12 +21,12 @@ is zero exactly when :math:`|\lambda_t| \le \mu \lambda_n`, :math:`\tilde s = 0`
 s / |\tilde s|` where it slips. Each step of the iteration, on the sets of the current
 iterate, is linear: :math:`\tilde s_j = 0` on the sticking multipliers,
 :math:`\lambda_{t,j} = \mu \xi_j \lambda_{n,j}` on the slipping ones with the slip
-direction :math:`\xi_j = z_j / |z_j|` of the iterate (in 2D a sign: semismooth Newton;
-on faces a unit vector in the tangent plane, held for the step: a fixed point on the
-direction), and :math:`\lambda_{t,j} = 0` off the active set. :class:`CoulombFriction`
-adds these rows, and the columns :math:`\mathbf B_t^T \lambda_t` of the bodies'
-equilibrium, to the saddle point of a :class:`~dolfinx_contact_s2s.system.ContactSystem`
-(``build(extra=...)``).
+direction :math:`\xi_j = z_j / |z_j|` of the iterate (in 2D a sign; on faces a unit
+vector in the tangent plane, whose change is linearized too: the rows of
+:meth:`CoulombFriction.__call__`), and :math:`\lambda_{t,j} = 0` off the active set.
+:class:`CoulombFriction` adds these rows, and the columns :math:`\mathbf B_t^T
+\lambda_t` of the bodies' equilibrium, to the saddle point of a
+:class:`~dolfinx_contact_s2s.system.ContactSystem` (``build(extra=...)``).
 
 On faces the tangent basis is the orthonormal frame :math:`\mathbf T_1 = \mathbf a
 \times \mathbf N / |\mathbf a \times \mathbf N|`, :math:`\mathbf T_2 = \mathbf N
