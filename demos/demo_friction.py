@@ -34,6 +34,14 @@
 # the largest $|x|$ of a sticking multiplier node; the L2 errors of $q$ and $p$ are
 # relative, over $[-a, a]$, of the nodal values interpolated linearly.
 #
+# **Cattaneo-Mindlin on a mesh refined by the solution.** The same scene meshed as a
+# user meshes it (20 P1 or 10 P2 elements across $2a$, a linear geometry), solved along
+# the same load path and refined by `refine_contact_zone` around the ends of the contact
+# zone and of the stick zone until their brackets are 1% of $a$ (the new nodes on the
+# arcs moved onto the circles, the mesh lifted to the displacement's degree;
+# `paper.friction_adaptive`). Checked: $c$ (the brackets' middle) within 2% and within
+# one element of the user's mesh, $q$ within 5% L2, P1 and P2.
+#
 # **The other package's half disks.** The friction demo of the other FEniCSx contact
 # package, solved here: two identical half disks of radius $R = 8$ touching at their
 # poles, $E = 200$, $\nu = 0.3$, plane strain, the lower flat face clamped; a normal
@@ -62,7 +70,8 @@
 # P2, the inclined block's ratio to $10^{-8}$, the patch tests to $10^{-10}$ relative;
 # the half disks' equilibrium to $10^{-10}$ relative, and in P2 $c$ within one element
 # and $q$ within 10% L2; the exit status is non-zero if one fails. It writes
-# `results/friction.json`, `results/friction.png`, `results/friction_half_disks.png` and
+# `results/friction.json`, `results/friction.png`, `results/friction_refined.png`,
+# `results/friction_half_disks.png` and
 # the section "friction" of `results/report.md`. Run it as
 # `python3 demos/demo_friction.py` or `mpirun -n 2 python3 demos/demo_friction.py`;
 # `--smoke` runs Cattaneo-Mindlin at 20 elements and the half disks at $h = 0.1$ only.
@@ -82,6 +91,7 @@ from paper.friction import (
     patch_slip,
     patch_stick,
 )
+from paper.friction_adaptive import cattaneo_mindlin_adaptive
 from paper.records import merge_rank_records
 from paper.report import demo_parser, output_folder, rank0_print, write_section
 
@@ -94,7 +104,7 @@ out = output_folder(args.out, comm)
 log = rank0_print(comm)
 ACROSS = (20,) if args.smoke else (20, 40, 80)
 SIZES = (0.1,) if args.smoke else (0.1, 0.05, 0.025)
-PATCH_BOUND, INCLINE_BOUND, Q_BOUND, HD_Q_BOUND = 1e-10, 1e-8, 0.05, 0.10
+PATCH_BOUND, INCLINE_BOUND, Q_BOUND, HD_Q_BOUND, C_BOUND = 1e-10, 1e-8, 0.05, 0.10, 0.02
 records, failed = [], []
 # -
 
@@ -125,6 +135,33 @@ for degree in (1, 2):
             )
         if degree == 2 and rec["q_L2_error"] > Q_BOUND:
             failed.append(f"P2 n = {across}: q off by {rec['q_L2_error']:.2%} (L2)")
+# -
+
+# ## Cattaneo-Mindlin refined by the solution
+
+# +
+refined = None
+for degree, across in ((1, 20), (2, 10)):
+    rec = cattaneo_mindlin_adaptive(comm, degree, across, tolerance=0.01, keep_traction=True)
+    x, q, p = rec.pop("x"), rec.pop("q"), rec.pop("p")
+    if degree == 2:
+        refined = rec, x, q, p
+    rec["ranks"] = comm.size
+    records.append(rec)
+    user_h = 2 * rec["a"] / across
+    off = rec["c_middle_error"] * rec["c_exact"]
+    log(
+        f"refined P{degree} from n = {across}: {len(rec['steps'])} meshes, "
+        f"{rec['across_contact']:g} elements across 2a at the end, c (middle) "
+        f"{rec['c_middle']:.5f} exact {rec['c_exact']:.5f} ({rec['c_middle_error']:.2%}, "
+        f"{off / user_h:.2f} of the user's elements, {rec['c_middle_error_elements']:.2f} "
+        f"of the local ones), L2 q {rec['q_L2_error']:.2%}, p {rec['p_L2_error']:.2%}; "
+        f"{rec['unknowns']} unknowns, {rec['seconds']:.1f} s"
+    )
+    if rec["c_middle_error"] > C_BOUND or off > user_h:
+        failed.append(f"refined P{degree}: c off by {rec['c_middle_error']:.2%}")
+    if rec["q_L2_error"] > Q_BOUND:
+        failed.append(f"refined P{degree}: q off by {rec['q_L2_error']:.2%} (L2)")
 # -
 
 # ## The other package's half disks
@@ -227,6 +264,24 @@ if comm.rank == 0:
     fig.tight_layout()
     fig.savefig(out / "friction.png", dpi=120)
 
+    rec, x, q, p = refined
+    a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
+    s = np.linspace(-1.3 * a, 1.3 * a, 801)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(s / a, np.sqrt(np.clip(1 - s**2 / a**2, 0, None)), "k--", lw=0.8, label="Hertz")
+    ax.plot(s / a, cattaneo_mindlin_shear(s, a, c, p0) / (CM_MU * p0), "k-", lw=0.8, label="q(x)")
+    keep = np.abs(x) < 1.3 * a
+    ax.plot(x[keep] / a, p[keep] / p0, "s", ms=3, mfc="none", label=r"$\lambda_n / p_0$")
+    ax.plot(x[keep] / a, q[keep] / (CM_MU * p0), "o", ms=3, label=r"$\lambda_t / (\mu p_0)$")
+    for side in (-1, 1):
+        ax.axvline(side * c / a, color="0.6", lw=0.6)
+    ax.set_xlabel("x / a")
+    ax.set_ylabel("traction, scaled")
+    ax.set_title(f"Cattaneo-Mindlin, P2 from n = {rec['across']}, refined by the solution")
+    ax.legend(loc="lower center", fontsize="small")
+    fig.tight_layout()
+    fig.savefig(out / "friction_refined.png", dpi=120)
+
     rec, x, q, p = disks
     a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
     s = np.linspace(-1.3 * a, 1.3 * a, 801)
@@ -311,6 +366,27 @@ if comm.rank == 0:
         + "; the outermost sticking node lies up to one node spacing inside c.",
         "",
         "![Cattaneo-Mindlin](friction.png)",
+        "",
+        "Cattaneo-Mindlin on a mesh refined by the solution (`refine_contact_zone` with the "
+        "load path; from the user's n elements across 2a, around the ends of the contact "
+        "and stick zones until their brackets are 1% of a; c the middle of the stick "
+        "zone's brackets, its error in the user's elements and in the local ones; "
+        "elements across 2a at the end):",
+        "",
+        "| P | n | meshes | across at the end | c (middle) | c exact | error | error "
+        "(user's h) | error (local h) | L2(q) | L2(p) | unknowns | s |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        *[
+            f"| P{r['degree']} | {r['across']} | {len(r['steps'])} | {r['across_contact']:g} | "
+            f"{r['c_middle']:.5f} | {r['c_exact']:.5f} | {r['c_middle_error']:.2%} | "
+            f"{r['c_middle_error'] * r['c_exact'] * r['across'] / (2 * r['a']):.2f} | "
+            f"{r['c_middle_error_elements']:.2f} | {r['q_L2_error']:.2%} | "
+            f"{r['p_L2_error']:.2%} | {r['unknowns']} | {r['seconds']:.1f} |"
+            for r in mine
+            if r["scene"] == "cattaneo-mindlin-adaptive"
+        ],
+        "",
+        "![Cattaneo-Mindlin refined by the solution](friction_refined.png)",
         "",
         "The other FEniCSx contact package's friction demo, solved here: two half disks "
         "R = 8 touching at their poles, E = 200, nu = 0.3, plane strain; F = 10 in 4 "

@@ -52,6 +52,9 @@ __all__ = [
     "E",
     "G",
     "cattaneo_mindlin",
+    "cattaneo_mindlin_measure",
+    "cattaneo_mindlin_model",
+    "cattaneo_mindlin_path",
     "cattaneo_mindlin_scene",
     "cattaneo_mindlin_shear",
     "half_disks",
@@ -139,7 +142,13 @@ def cattaneo_mindlin_scene(comm: MPI.Comm, degree: int, across: int) -> tuple:
         geometry_degree=degree,
         edge_nodes=False,
     )
-    mesh, tags = scene.mesh, scene.facet_tags
+    return cattaneo_mindlin_model(scene.mesh, scene.facet_tags, degree)
+
+
+def cattaneo_mindlin_model(
+    mesh: dolfinx.mesh.Mesh, tags: dolfinx.mesh.MeshTags, degree: int
+) -> tuple:
+    """The forms, conditions, pair and motion of :func:`cattaneo_mindlin_scene` on a mesh of it."""
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
     a_form, _, v = MATERIAL.forms(V)
     L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(2)), v) * ufl.dx
@@ -155,6 +164,25 @@ def cattaneo_mindlin_scene(comm: MPI.Comm, degree: int, across: int) -> tuple:
         contact_surface(V, tags, TAGS["contactor"]), contact_surface(V, tags, TAGS["target"])
     )
     return a_form, L, bcs, pair, motion
+
+
+def cattaneo_mindlin_path(
+    problem: FrictionalContactProblem, motion: dolfinx.fem.Function
+) -> list[int]:
+    """The load path: the upper face moved down in four frictionless steps, then sideways.
+
+    Returns the linear solves of every step.
+    """
+    motion.interpolate(lambda x: np.stack([0.0 * x[0], -CM_DELTA + 0.0 * x[0]]))
+    problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
+    solves = [len(s.iterations) for s in problem.history.steps]
+    for k in range(1, 5):
+        motion.interpolate(
+            lambda x, k=k: np.stack([0 * x[0] + k * CM_SHIFT / 4, -CM_DELTA + 0 * x[0]])
+        )
+        problem.solve([1.0], restart=False)
+        solves += [len(s.iterations) for s in problem.history.steps]
+    return solves
 
 
 def cattaneo_mindlin(
@@ -182,48 +210,61 @@ def cattaneo_mindlin(
     """
     begin = time.perf_counter()
     a_form, L, bcs, pair, motion = cattaneo_mindlin_scene(comm, degree, across)
+    with FrictionalContactProblem(
+        a_form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm{degree}_"
+    ) as problem:
+        solves = cattaneo_mindlin_path(problem, motion)
+        record = cattaneo_mindlin_measure(problem, 2 * CM_A / across)
+    record.update(
+        degree=degree,
+        across=across,
+        solves_per_step=solves,
+        seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+    )
+    if not keep_traction:
+        for key in ("x", "q", "p"):
+            record.pop(key)
+    return record
+
+
+def cattaneo_mindlin_measure(
+    problem: FrictionalContactProblem, h: float | None = None
+) -> dict[str, typing.Any]:
+    """The record of :func:`cattaneo_mindlin` from a solved problem (collective).
+
+    ``h`` is the element size at the contact; ``None`` takes it at the stick zone's
+    ends (the widest of their brackets times the degree: a locally refined mesh).
+    The record also has ``across_contact``, the contactor's elements within
+    :math:`|x| < a`, and the gathered ``x``, ``q``, ``p``.
+    """
+    comm, (pair,) = problem.comm, problem.pairs
     V = pair.contactor.V
 
     def integral(f):
         return comm.allreduce(dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx)))
 
-    solves = []
-    with FrictionalContactProblem(
-        a_form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm{degree}_"
-    ) as problem:
-        motion.interpolate(lambda x: np.stack([0.0 * x[0], -CM_DELTA + 0.0 * x[0]]))
-        problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
-        solves += [len(s.iterations) for s in problem.history.steps]
-        for k in range(1, 5):
-            motion.interpolate(
-                lambda x, k=k: np.stack([0 * x[0] + k * CM_SHIFT / 4, -CM_DELTA + 0 * x[0]])
-            )
-            (_,), (lam_n,), (lam_t,) = problem.solve([1.0], restart=False)
-            if not problem.history.steps[-1].converged:
-                raise RuntimeError(problem.history.describe())
-            solves += [len(s.iterations) for s in problem.history.steps]
-        P, Q = integral(lam_n), integral(lam_t)
-        n = pair.Q.dofmap.index_map.size_local
-        x = _gather(comm, pair.Q.tabulate_dof_coordinates()[:n, 0])
-        q, p = _gather(comm, lam_t.x.array[:n]), _gather(comm, lam_n.x.array[:n])
-        stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
-        unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
-        # The stick zone's ends, each bracketed by its last sticking and first slipping node.
-        ends = [
-            e
-            for z in contact_zones(pair, problem.stick[0], problem.stick[0], estimate="middle")
-            for e in (z.start, z.end)
-        ]
+    (lam_n,), (lam_t,) = problem.multipliers, problem.tangential
+    P, Q = integral(lam_n), integral(lam_t)
+    n = pair.Q.dofmap.index_map.size_local
+    x = _gather(comm, pair.Q.tabulate_dof_coordinates()[:n, 0])
+    q, p = _gather(comm, lam_t.x.array[:n]), _gather(comm, lam_n.x.array[:n])
+    stick = _gather(comm, problem.stick[0].x.array[:n]) > 0.5
+    unknowns = V.dofmap.index_map.size_global * 2 + 2 * pair.Q.dofmap.index_map.size_global
+    # The stick zone's ends, each bracketed by its last sticking and first slipping node.
+    ends = [
+        e
+        for z in contact_zones(pair, problem.stick[0], problem.stick[0], estimate="middle")
+        for e in (z.start, z.end)
+    ]
+    degree = pair.contactor.element.degree
     a, p0, c_exact, hertz_p = _two_cylinders(P, Q, E, NU, CM_R, CM_MU)
-    h = 2 * CM_A / across  # the element size at the contact
+    if h is None:
+        h = degree * max(e.bracket for e in ends)
     c = float(np.max(np.abs(x[stick]))) if stick.any() else 0.0
     inside, outside = (np.abs([e.bracket_points[k][0] for e in ends]) for k in (0, 1))
     middles = np.abs([e.point[0] for e in ends])
-
-    record = {
+    return {
         "scene": "cattaneo-mindlin",
-        "degree": degree,
-        "across": across,
         "P": P,
         "Q": Q,
         "Q_over_muP": Q / (CM_MU * P),
@@ -232,6 +273,7 @@ def cattaneo_mindlin(
         "c_exact": c_exact,
         "c": c,
         "h": h,
+        "across_contact": int(np.count_nonzero(np.abs(x) < a)) / degree,
         "c_error_elements": abs(c - c_exact) / h,
         "c_error": abs(c - c_exact) / c_exact,
         "c_bracketed": bool(np.all((inside <= c_exact) & (c_exact <= outside))),
@@ -240,13 +282,11 @@ def cattaneo_mindlin(
         "c_middle_error_elements": float(np.max(np.abs(middles - c_exact))) / h,
         "q_L2_error": _relative_l2(x, q, lambda s: cattaneo_mindlin_shear(s, a, c_exact, p0), a),
         "p_L2_error": _relative_l2(x, p, hertz_p, a),
-        "solves_per_step": solves,
         "unknowns": unknowns,
-        "seconds": comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+        "x": x,
+        "q": q,
+        "p": p,
     }
-    if keep_traction:
-        record.update(x=x, q=q, p=p)
-    return record
 
 
 #: The other package's half disks: radius, material, normal and tangential tractions on

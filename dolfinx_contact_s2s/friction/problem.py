@@ -77,6 +77,7 @@ class FrictionalContactProblem(ContactProblemBase):
     After :meth:`solve`: :attr:`u`, :attr:`multipliers` (:math:`\lambda_n`),
     :attr:`tangential` (:math:`\lambda_t`; in 3D two per pair, along :math:`\mathbf T_1`
     and :math:`\mathbf T_2` of the axes :attr:`tangent_axes`), :attr:`active`,
+    :attr:`gaps` (the weighted gaps :math:`\tilde g_j`),
     :attr:`stick` (1 on the sticking multipliers) and :attr:`history` (its iterations
     count the active and sticking multipliers of every pair). A load step that does not
     converge within ``max_iterations`` raises
@@ -153,6 +154,7 @@ class FrictionalContactProblem(ContactProblemBase):
         self.mu, self.slip_bound, self.tangent_axis = float(mu), slip_bound, tangent_axis
         self.active = [dolfinx.fem.Function(p.Q, name=f"active{j}") for j, p in enumerate(pairs)]
         self.stick = [dolfinx.fem.Function(p.Q, name=f"stick{j}") for j, p in enumerate(pairs)]
+        self.gaps = [dolfinx.fem.Function(p.Q, name=f"gap{j}") for j, p in enumerate(pairs)]
         self.tangential: list[dolfinx.fem.Function] = []
         self.tangent_axes: list[npt.NDArray[np.float64] | None] = []
         self.history = ContactHistory("coulomb")
@@ -272,7 +274,8 @@ class FrictionalContactProblem(ContactProblemBase):
                 )
             friction.accept()
             step.seconds = time.perf_counter() - begin
-        for fs, sets in ((self.active, active), (self.stick, friction.stick)):
+        gaps = comp.weighted_gaps()
+        for fs, sets in ((self.active, active), (self.stick, friction.stick), (self.gaps, gaps)):
             for f, a in zip(fs, sets, strict=True):
                 f.x.array[:] = 0.0
                 f.x.array[: a.size] = a

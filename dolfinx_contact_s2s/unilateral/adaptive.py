@@ -21,6 +21,12 @@ mean radius of the zero crossings of :math:`\lambda` around an axis the user giv
 crossing are refined, and a new multiplier node starts active if it lies within the
 previous estimate of the radius.
 
+With friction (a :class:`~dolfinx_contact_s2s.friction.FrictionalContactProblem`,
+solved along the user's load path) the edges of the stick zones are refined the same
+way: there the shear changes from the stick solution to :math:`\mu \lambda_n` with an
+infinite slope (Cattaneo-Mindlin), and the stick zone ends between two nodes as the
+contact zone does.
+
 This module needs petsc4py and must be imported explicitly.
 """
 
@@ -46,6 +52,7 @@ from dolfinx_contact_s2s.postprocess import (
     contact_zones,
     pressure_profile,
 )
+from dolfinx_contact_s2s.problem import ContactProblemBase
 from dolfinx_contact_s2s.unilateral.problem import UnilateralContactProblem
 
 __all__ = [
@@ -75,6 +82,10 @@ class AdaptiveStep:
         fronts: The contact front of every pair (3D models; empty in 2D).
         peak_change: Largest relative change of a pair's peak :math:`\lambda` since
             the previous step (``nan`` at the first step or without ``peak_tolerance``).
+        stick_zones: With friction, the stick zones of every pair (2D): the runs of
+            sticking multiplier nodes, their ends bracketed by the last sticking and the
+            first slipping (or inactive) node.
+        stick_fronts: With friction, the stick front of every pair (3D).
     """
 
     unknowns: int
@@ -86,6 +97,8 @@ class AdaptiveStep:
     restarted: bool = False
     fronts: list[ContactFront] = field(default_factory=list)
     peak_change: float = math.nan
+    stick_zones: list[list[ContactZone]] = field(default_factory=list)
+    stick_fronts: list[ContactFront] = field(default_factory=list)
 
     @property
     def lengths(self) -> list[list[float]]:
@@ -103,7 +116,7 @@ class AdaptiveResult:
         history: One :class:`AdaptiveStep` per solve.
     """
 
-    problem: UnilateralContactProblem
+    problem: ContactProblemBase
     meshes: tuple
     history: list[AdaptiveStep] = field(default_factory=list)
 
@@ -123,15 +136,14 @@ class RefinementError(RuntimeError):
         self.problem = problem
 
 
-def _unknowns(problem: UnilateralContactProblem) -> int:
+def _unknowns(problem: ContactProblemBase) -> int:
     count = sum(V.dofmap.index_map.size_global * V.dofmap.index_map_bs for V in problem.spaces)
-    return count + sum(
-        lam.function_space.dofmap.index_map.size_global for lam in problem.multipliers
-    )
+    fields = [*problem.multipliers, *getattr(problem, "tangential", [])]
+    return count + sum(lam.function_space.dofmap.index_map.size_global for lam in fields)
 
 
 def _zones(
-    problem: UnilateralContactProblem, estimate: str
+    problem: ContactProblemBase, estimate: str
 ) -> tuple[list[PressureProfile], list[list[ContactZone]]]:
     profiles = [
         pressure_profile(pair, lam, act, gap)
@@ -247,11 +259,13 @@ def _peak(profile: PressureProfile, layers: float = 1.0) -> tuple[float, npt.NDA
 
 
 def _fronts(
-    problem: UnilateralContactProblem, axis: tuple[npt.ArrayLike, npt.ArrayLike]
+    problem: ContactProblemBase, axis: tuple[npt.ArrayLike, npt.ArrayLike], stick: bool = False
 ) -> list[ContactFront]:
+    sets = problem.stick if stick else problem.active  # type: ignore[attr-defined]
+    fields = sets if stick else problem.multipliers
     return [
         contact_front(lam, act, centre=axis[0], axis=axis[1])
-        for lam, act in zip(problem.multipliers, problem.active, strict=True)
+        for lam, act in zip(fields, sets, strict=True)
     ]
 
 
@@ -285,7 +299,7 @@ def _mark(mesh: dolfinx.mesh.Mesh, balls: npt.NDArray[np.floating]) -> npt.NDArr
 
 
 def refine_contact_zone(
-    build: Callable[..., UnilateralContactProblem],
+    build: Callable[..., ContactProblemBase],
     mesh: dolfinx.mesh.Mesh | Sequence[dolfinx.mesh.Mesh],
     cell_tags: dolfinx.mesh.MeshTags | Sequence[dolfinx.mesh.MeshTags],
     facet_tags: dolfinx.mesh.MeshTags | Sequence[dolfinx.mesh.MeshTags],
@@ -302,14 +316,16 @@ def refine_contact_zone(
     peak_tolerance: float | None = None,
     geometry_degree: int = 1,
     axis: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
-    on_step: Callable[[int, UnilateralContactProblem], None] | None = None,
+    solve: Callable[[typing.Any, list | None], object] | None = None,
+    on_step: Callable[[int, typing.Any], None] | None = None,
 ) -> AdaptiveResult:
     r"""Solve, refine around the contact edges and solve again, until they are resolved.
 
     Every step calls ``build(mesh, cell_tags, facet_tags)`` (with the arguments in the
     shape given here: one mesh or a list) for a new
-    :class:`~dolfinx_contact_s2s.unilateral.UnilateralContactProblem`, solves it at
-    ``load_factors`` and reads its contact zones
+    :class:`~dolfinx_contact_s2s.unilateral.UnilateralContactProblem` or
+    :class:`~dolfinx_contact_s2s.friction.FrictionalContactProblem`, solves it at
+    ``load_factors`` (or along the user's load path, ``solve``) and reads its contact zones
     (:func:`~dolfinx_contact_s2s.postprocess.contact_zones`). An edge is resolved when
     its bracket (the distance from the last active to the first inactive multiplier
     node) is at most ``tolerance`` times the zone's length (or ``length``). Around every
@@ -321,6 +337,12 @@ def refine_contact_zone(
     ``build`` sees the mesh; without it the refinement converges to the polygon's
     answer. Every solve after the first starts from the previous contact zones
     (:func:`inside_zones`), unless ``restart`` is False.
+
+    With friction, the ends of every stick zone (2D: ``contact_zones`` of the stick set,
+    their estimate the bracket's middle; 3D: the front of the stick set) are edges too,
+    resolved when their bracket is at most ``tolerance`` times the stick zone's length
+    (its radius in 3D, or ``length``). The frictional solve starts from the problem's
+    ``start`` (``restart`` does not apply to it).
 
     In 3D (tetrahedra), the edge of every pair is its
     :func:`~dolfinx_contact_s2s.contact_front.contact_front` around ``axis``: it is
@@ -365,6 +387,11 @@ def refine_contact_zone(
             chords, 0.08% on the curved mesh).
         axis: 3D models: a point and a direction of the axis the contact fronts are
             measured from (e.g. the first touching point and the normal there).
+        solve: The load path, called as ``solve(problem, first)`` on every process
+            with the first active set of a restart (``None`` at the first step or
+            without ``restart``; the markers of ``active=``), e.g. a normal load and then
+            a tangential one (default: ``problem.solve(load_factors, active=first)``, with
+            friction ``problem.solve(load_factors)``).
         on_step: Called as ``on_step(step, problem)`` on every process after every
             solve, before the problem is destroyed (to read or save each step).
 
@@ -400,6 +427,8 @@ def refine_contact_zone(
         raise ValueError(f"peak_tolerance must lie in (0, 1), not {peak_tolerance!r}")
     if geometry_degree not in (1, 2):
         raise ValueError(f"geometry_degree must be 1 or 2, not {geometry_degree!r}")
+    if not all(f is None or callable(f) for f in (solve, on_step)):
+        raise ValueError("solve and on_step must be callables (or None)")
     snaps = list(snap) if isinstance(snap, Sequence) else [snap] * len(meshes)
     if len(snaps) != len(meshes) or not all(p is None or callable(p) for p in snaps):
         raise ValueError("snap must be a projection, or one projection (or None) per mesh")
@@ -437,9 +466,17 @@ def refine_contact_zone(
             given = [curved_mesh(m, c, f, p) for (m, c, f), p in zip(given, snaps, strict=True)]
         args = given[0] if single else tuple(list(part) for part in zip(*given, strict=True))
         problem = build(*args)
-        if not isinstance(problem, UnilateralContactProblem):
-            raise ValueError("build must return a UnilateralContactProblem")
-        problem.solve(load_factors, active=first)
+        frictional = hasattr(problem, "stick")
+        if not (isinstance(problem, UnilateralContactProblem) or frictional):
+            raise ValueError(
+                "build must return a UnilateralContactProblem or a FrictionalContactProblem"
+            )
+        if solve is not None:
+            solve(problem, first)
+        elif frictional:
+            problem.solve(load_factors)
+        else:
+            problem.solve(load_factors, active=first)
         wide: list[npt.NDArray[np.floating]] = []
         widest, relative = 0.0, 0.0
         if three:
@@ -451,7 +488,16 @@ def refine_contact_zone(
             (profiles, zones), fronts = _zones(problem, estimate), []
             if not any(zones):
                 raise ValueError("the solve has no contact zone with an edge to refine")
-        for front in (f for f in fronts if f.points.shape[0]):
+        stick_zones, stick_fronts = [], []
+        if frictional and three:
+            assert axis is not None
+            stick_fronts = _fronts(problem, axis, stick=True)
+        elif frictional:
+            stick_zones = [
+                contact_zones(pair, s, s, estimate="middle")
+                for pair, s in zip(problem.pairs, problem.stick, strict=True)
+            ]
+        for front in (f for f in fronts + stick_fronts if f.points.shape[0]):
             reference = length if length is not None else max(front.radius, 1e-300)
             widest = max(widest, front.bracket)
             relative = max(relative, front.bracket / reference)
@@ -460,7 +506,7 @@ def refine_contact_zone(
                     np.append(p, layers * h)
                     for p, h in zip(front.points, front.edge_lengths, strict=True)
                 ]
-        for z in (z for pair_zones in zones for z in pair_zones):
+        for z in (z for pair_zones in zones + stick_zones for z in pair_zones):
             reference = length if length is not None else max(z.length, 1e-300)
             for edge in (z.start, z.end):
                 widest = max(widest, edge.bracket)
@@ -502,6 +548,8 @@ def refine_contact_zone(
                 first is not None,
                 fronts,
                 change,
+                stick_zones,
+                stick_fronts,
             )
         )
         logger.info(
@@ -526,10 +574,12 @@ def refine_contact_zone(
             meshes[k], (ctags[k], ftags[k]) = refine_marked(m, edges, (ctags[k], ftags[k]))
             if snaps[k] is not None:
                 snap_boundary(meshes[k], ftags[k], snaps[k])
-        if restart and three:
+        if not restart or (frictional and solve is None):
+            continue
+        if three:
             assert axis is not None
             first = [_inside_front(f, axis) for f in fronts]
-        elif restart:
+        else:
             first = [inside_zones(p, z) for p, z in zip(profiles, zones, strict=True)]
     raise RefinementError(
         f"the contact edges were not resolved to {tolerance:g} in {max_steps} refinements"

@@ -20,13 +20,22 @@ for a tangential force :math:`Q < \mu P` is
 integrals). The issue's bounds: the stick half-width within one element (the middle of
 the brackets of the stick zone's ends: last sticking, first slipping node), and (P2) the
 shear within 5% relative L2 over :math:`[-a, a]`.
+
+On a mesh refined by the solution (:func:`paper.friction_adaptive.cattaneo_mindlin_adaptive`:
+the user's mesh of 20 P1 or 10 P2 elements across :math:`2a`, refined around the ends of
+the contact and stick zones until their brackets are 1% of :math:`a`), the issue's
+bounds for P1 and P2: :math:`c` within 2% and within one element of the user's mesh,
+:math:`q` within 5% relative L2.
 """
+
+import itertools
 
 from mpi4py import MPI
 
 import pytest
 
-from paper.friction import cattaneo_mindlin
+from paper.friction import CM_A, cattaneo_mindlin
+from paper.friction_adaptive import cattaneo_mindlin_adaptive
 
 
 @pytest.mark.parametrize("degree", [1, 2])
@@ -36,3 +45,16 @@ def test_cattaneo_mindlin(degree):
     assert rec["c_middle_error_elements"] <= 1.0
     if degree == 2:
         assert rec["q_L2_error"] <= 0.05
+
+
+@pytest.mark.parametrize("degree, across", [(1, 20), (2, 10)])
+def test_cattaneo_mindlin_refined_by_the_solution(degree, across):
+    rec = cattaneo_mindlin_adaptive(MPI.COMM_WORLD, degree, across, tolerance=0.01)
+    assert 0.3 < rec["Q_over_muP"] < 0.7
+    # Every step but the first refines: the brackets halve until 1% of a.
+    relative = [s["relative"] for s in rec["steps"]]
+    assert relative[-1] <= 0.01 < relative[-2]
+    assert all(b <= 0.55 * a for a, b in itertools.pairwise(relative))
+    assert rec["c_middle_error"] <= 0.02
+    assert rec["c_middle_error"] * rec["c_exact"] <= 2 * CM_A / across
+    assert rec["q_L2_error"] <= 0.05

@@ -93,6 +93,10 @@ def test_quadrilaterals_and_bad_arguments():
     ):
         with pytest.raises(ValueError):
             refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, **bad)
+    with pytest.raises(ValueError, match="callables"):
+        refine_contact_zone(build(CASE), scene.mesh, scene.cell_tags, scene.facet_tags, solve=1)
+    with pytest.raises(ValueError, match="build must return"):
+        refine_contact_zone(lambda *args: None, scene.mesh, scene.cell_tags, scene.facet_tags)
     with pytest.raises(ValueError, match="as many"):
         refine_contact_zone(build(CASE), [scene.mesh], [scene.cell_tags], [])
     with pytest.raises(ValueError, match="snap"):
