@@ -283,7 +283,11 @@ class FrictionalContactProblem(ContactProblemBase):
         return self.u, self.multipliers, self.tangential
 
     def _check_slip(self, run: ContactIteration, step: LoadStep, active: list) -> None:
-        """Raise if the slip of the next sets frees a body that sticking would hold (Eq. 33)."""
+        """Raise if the next sets free a body: by slip where sticking would hold it, or open (Eq. 33).
+
+        Else the next solve is singular: a direct solver returns arbitrary displacements
+        and the sets cycle.
+        """
         comp, friction = self._complementarity, self._friction
         if self._support is None or comp is None or friction is None:
             return
@@ -298,8 +302,16 @@ class FrictionalContactProblem(ContactProblemBase):
             return gram.motions(normal + [owned_indices(op.G, ~stick[i // nd]) for i, op in ops])
 
         motions = free(friction.stick)
-        if not motions or len(free(active)) >= len(motions):
+        if not motions:
             return
+        if len(free(active)) >= len(motions):  # the contact opened: slip is not to blame
+            lines = "\n".join(f"  - {m.describe()}" for m in motions)
+            run.fail(
+                f"solve {len(step.iterations)} at load {step.load:g}: the active set leaves "
+                f"these rigid motions free, held by contact alone and the contact open (Eq. "
+                f"33):\n{lines}\nHold every body by a Dirichlet condition, or take smaller "
+                "load steps."
+            )
         m, body = motions[0], motions[0].motions[0].body()
         roles = [
             f"the {role} of pair {j}"

@@ -311,6 +311,30 @@ def test_friction_cannot_hold(degree, tau):
 
 
 @pytest.mark.parametrize("degree", [1, 2])
+def test_contact_opens_and_frees_a_body(degree):
+    """The upper block pulled off (a tension on its top), held by contact alone.
+
+    Without the check the next solve is singular: a direct solver returns arbitrary
+    displacements and the sets cycle until ``max_iterations``. The error names the
+    upper block's three free rigid motions at the first solve, on every rank, like the
+    frictionless problem's.
+    """
+    part, V = patch_scene(degree)
+    a, _, v = MATERIAL.forms(V)
+    pair = patch_pair(part, V, degree)
+    L = patch_loads(part, v, -0.75, 0.0)
+    with FrictionalContactProblem(
+        a, L, [pair], patch_bcs(part, V), mu=0.5, petsc_options_prefix="fr_open_"
+    ) as problem:
+        with pytest.raises(ContactConvergenceError, match="contact open") as error:
+            problem.solve()
+    text = str(error.value)
+    assert text.startswith("solve 1 at load 1")
+    for motion in ("translation along (1, 0)", "translation along (0, 1)", "rotation about"):
+        assert f"body 1 of space 0 (nodes in [0, 1] x [0.5, 1]) can move freely: {motion}" in text
+
+
+@pytest.mark.parametrize("degree", [1, 2])
 def test_load_order(degree):
     """Press then slide, or slide lightly pressed then press: two answers, each exact.
 
