@@ -283,7 +283,7 @@ class FrictionalContactProblem(ContactProblemBase):
         return self.u, self.multipliers, self.tangential
 
     def _check_slip(self, run: ContactIteration, step: LoadStep, active: list) -> None:
-        """Raise if the next sets free a body: by slip where sticking would hold it, or open (Eq. 33).
+        """Raise if the next sets free a body: by slip where sticking holds it, or open (Eq. 33).
 
         Else the next solve is singular: a direct solver returns arbitrary displacements
         and the sets cycle.
