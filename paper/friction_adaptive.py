@@ -70,7 +70,7 @@ def cattaneo_mindlin_adaptive(
         )
 
     def path(problem, first):
-        solves.append(cattaneo_mindlin_path(problem, motion[0]))
+        solves.append(cattaneo_mindlin_path(problem, motion[0], first))
 
     def on_step(step, problem):
         rec = cattaneo_mindlin_measure(problem)
@@ -94,8 +94,8 @@ def cattaneo_mindlin_adaptive(
     )
     with result.problem as problem:
         record = cattaneo_mindlin_measure(problem)
-    for row, s in zip(steps, result.history, strict=True):
-        row.update(relative=s.relative, solves=s.solves, seconds=s.seconds)
+    for row, s, n in zip(steps, result.history, solves, strict=True):
+        row.update(relative=s.relative, solves=sum(n), seconds=s.seconds)
     record.update(
         scene="cattaneo-mindlin-adaptive",
         degree=degree,

@@ -30,7 +30,11 @@ from dolfinx_contact_s2s.checks.inputs import check_inequality_multipliers
 from dolfinx_contact_s2s.friction.coulomb import CoulombFriction
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
-from dolfinx_contact_s2s.unilateral.complementarity import Complementarity, owned_indices
+from dolfinx_contact_s2s.unilateral.complementarity import (
+    Complementarity,
+    given_active,
+    owned_indices,
+)
 from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 from dolfinx_contact_s2s.unilateral.problem import STARTS
@@ -203,6 +207,7 @@ class FrictionalContactProblem(ContactProblemBase):
         restart: bool = True,
         mu: float | None = None,
         after: FrictionalContactProblem | None = None,
+        active: Sequence[Callable | npt.NDArray[np.bool_] | None] | None = None,
     ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         r"""Assemble, then solve the load steps in turn, each slipping from the previous one.
 
@@ -217,13 +222,18 @@ class FrictionalContactProblem(ContactProblemBase):
             after: Continue another problem's last solve instead, on the same spaces
                 and pairs with other Dirichlet conditions (say a symmetry condition
                 that held a body while it was frictionless, released).
+            active: From rest, the first active set instead of ``start``, as in
+                :meth:`UnilateralContactProblem.solve
+                <dolfinx_contact_s2s.unilateral.UnilateralContactProblem.solve>` (e.g. a
+                previous solution's on a refined mesh); it sticks.
 
         Returns:
             The displacement of every space, and :math:`\lambda_n` and
             :math:`\lambda_t` of every pair, at the last load factor.
 
         Raises:
-            ValueError: On every rank, if the model is singular or a factor not finite.
+            ValueError: On every rank, if the model is singular, a factor not finite or
+                ``active`` has not one entry per pair of the right size.
             ContactConvergenceError: On every rank, if a load step does not converge, or
                 if the slip of a solve leaves free a body that only friction holds (its
                 tangential load exceeds :math:`\mu` times its normal load), naming it.
@@ -234,6 +244,9 @@ class FrictionalContactProblem(ContactProblemBase):
         problems = [m for m in self.comm.allgather(_check(self.mu if mu is None else mu, [])) if m]
         if problems:
             raise ValueError(problems[0])
+        if active is not None and (not restart or after is not None):
+            raise ValueError("active is a first guess from rest: not with restart=False or after")
+        given = given_active(self.pairs, self.comm, active)
         source = (self if after is None else after)._friction
         state = None if (restart and after is None) or source is None else source.state()
         self.assemble()
@@ -250,7 +263,7 @@ class FrictionalContactProblem(ContactProblemBase):
             self.history.steps.append(step)
             begin = time.perf_counter()
             if active is None:
-                active = comp.first_active(t, self.start)
+                active = comp.first_active(t, self.start, given)
             friction.start(active)  # every step's first solve: the active multipliers stick
             for _ in range(self.max_iterations):
                 stick = [s.copy() for s in friction.stick]

@@ -341,8 +341,7 @@ def refine_contact_zone(
     With friction, the ends of every stick zone (2D: ``contact_zones`` of the stick set,
     their estimate the bracket's middle; 3D: the front of the stick set) are edges too,
     resolved when their bracket is at most ``tolerance`` times the stick zone's length
-    (its radius in 3D, or ``length``). The frictional solve starts from the problem's
-    ``start`` (``restart`` does not apply to it).
+    (its radius in 3D, or ``length``).
 
     In 3D (tetrahedra), the edge of every pair is its
     :func:`~dolfinx_contact_s2s.contact_front.contact_front` around ``axis``: it is
@@ -390,8 +389,7 @@ def refine_contact_zone(
         solve: The load path, called as ``solve(problem, first)`` on every process
             with the first active set of a restart (``None`` at the first step or
             without ``restart``; the markers of ``active=``), e.g. a normal load and then
-            a tangential one (default: ``problem.solve(load_factors, active=first)``, with
-            friction ``problem.solve(load_factors)``).
+            a tangential one (default: ``problem.solve(load_factors, active=first)``).
         on_step: Called as ``on_step(step, problem)`` on every process after every
             solve, before the problem is destroyed (to read or save each step).
 
@@ -473,8 +471,6 @@ def refine_contact_zone(
             )
         if solve is not None:
             solve(problem, first)
-        elif frictional:
-            problem.solve(load_factors)
         else:
             problem.solve(load_factors, active=first)
         wide: list[npt.NDArray[np.floating]] = []
@@ -574,7 +570,7 @@ def refine_contact_zone(
             meshes[k], (ctags[k], ftags[k]) = refine_marked(m, edges, (ctags[k], ftags[k]))
             if snaps[k] is not None:
                 snap_boundary(meshes[k], ftags[k], snaps[k])
-        if not restart or (frictional and solve is None):
+        if not restart:
             continue
         if three:
             assert axis is not None

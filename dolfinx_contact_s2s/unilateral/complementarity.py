@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import time
+import typing
 from collections.abc import Iterator
 
 from mpi4py import MPI
@@ -31,13 +32,48 @@ import ufl
 from dolfinx_contact_s2s.assemble import multiplier_mass
 from dolfinx_contact_s2s.system import ContactSystem, add_scaled
 
-__all__ = ["Complementarity", "owned_indices"]
+__all__ = ["Complementarity", "given_active", "owned_indices"]
 
 
 def owned_indices(v: PETSc.Vec, mask: npt.NDArray[np.bool_]) -> npt.NDArray[np.int64]:
     """Global indices of the owned entries of ``v`` where ``mask`` holds."""
     start = v.getOwnershipRange()[0]
     return (start + np.flatnonzero(mask)).astype(np.int64)
+
+
+def given_active(
+    pairs: typing.Sequence, comm: MPI.Comm, active: typing.Sequence | None
+) -> list[npt.NDArray[np.bool_] | None] | None:
+    """The owned first active set of every pair from a solve's ``active=`` (collective).
+
+    Each entry: a marker ``f(x) -> bool`` of the multiplier nodes' coordinates ``(3, n)``,
+    a boolean array over the pair's owned multiplier dofs, or ``None``.
+
+    Raises:
+        ValueError: On every rank, without one entry per pair of the right size.
+    """
+    if active is None:
+        return None
+    out: list[npt.NDArray[np.bool_] | None] = []
+    problem = ""
+    if len(active) != len(pairs):
+        problem = f"active needs one entry per pair ({len(pairs)}), not {len(active)}"
+    for pair, given in zip(pairs, active, strict=False):
+        n = pair.Q.dofmap.index_map.size_local * pair.Q.dofmap.index_map_bs
+        if given is None:
+            out.append(None)
+            continue
+        if callable(given):
+            x = pair.Q.tabulate_dof_coordinates()[:n]
+            given = given(x.T.copy())
+        mask = np.asarray(given)
+        if mask.shape != (n,) and not problem:
+            problem = f"an active set has shape {mask.shape}, not ({n},) (owned dofs)"
+        out.append(mask.astype(bool) if mask.shape == (n,) else None)
+    message = [m for m in comm.allgather(problem) if m]
+    if message:
+        raise ValueError(message[0])
+    return out
 
 
 class Complementarity:
@@ -242,8 +278,23 @@ class Complementarity:
             left = sum(int(np.count_nonzero(a & ~n)) for n, a in zip(new, active, strict=True))
             return new, self.comm.allreduce(entered), self.comm.allreduce(left)
 
-    def first_active(self, load: float, start: str) -> list[npt.NDArray[np.bool_]]:
-        """The first active set of a solve (``start``: one of ``STARTS``)."""
+    def first_active(
+        self, load: float, start: str, given: list[npt.NDArray[np.bool_] | None] | None = None
+    ) -> list[npt.NDArray[np.bool_]]:
+        """The first active set of a solve: ``start`` (one of ``STARTS``), or ``given``.
+
+        ``given`` (:func:`given_active`) replaces the start's set of every pair it has
+        an entry for; pinned multipliers stay out.
+        """
+        first = self._start_set(load, start)
+        if given is None:
+            return first
+        return [
+            a if g is None else g & ~self.pinned(j)
+            for j, (a, g) in enumerate(zip(first, given, strict=True))
+        ]
+
+    def _start_set(self, load: float, start: str) -> list[npt.NDArray[np.bool_]]:
         with self._timed():
             pinned = [self.pinned(j) for j in range(len(self.operators))]
             if start == "tied":

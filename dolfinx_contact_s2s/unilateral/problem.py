@@ -29,7 +29,7 @@ from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
 from dolfinx_contact_s2s.system import DEFAULT_OPTIONS
 from dolfinx_contact_s2s.unilateral import active_set, penalty, snes_vi
-from dolfinx_contact_s2s.unilateral.complementarity import Complementarity
+from dolfinx_contact_s2s.unilateral.complementarity import Complementarity, given_active
 from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 
@@ -220,7 +220,7 @@ class UnilateralContactProblem(ContactProblemBase):
         loads = [float(t) for t in load_factors]
         if not loads or not all(np.isfinite(loads)):
             raise ValueError("give at least one finite load factor")
-        given = self._given_active(active)
+        given = given_active(self.pairs, self.comm, active)
         self.assemble()
         assert self._complementarity is not None
         comp = self._complementarity
@@ -245,44 +245,12 @@ class UnilateralContactProblem(ContactProblemBase):
             self.history.steps.append(step)
             begin = time.perf_counter()
             if active is None:
-                active = comp.first_active(t, self.start)
-                if given is not None:
-                    active = [
-                        a if g is None else g & ~comp.pinned(j)
-                        for j, (a, g) in enumerate(zip(active, given, strict=True))
-                    ]
+                active = comp.first_active(t, self.start, given)
             active = step_solver(run, step, active)
             step.seconds = time.perf_counter() - begin
         assert active is not None
         self._finish(comp, active)
         return self.u, self.multipliers
-
-    def _given_active(
-        self, active: Sequence[Callable | npt.NDArray[np.bool_] | None] | None
-    ) -> list[npt.NDArray[np.bool_] | None] | None:
-        """The owned first active set of every pair from ``solve(active=...)``."""
-        if active is None:
-            return None
-        out: list[npt.NDArray[np.bool_] | None] = []
-        problem = ""
-        if len(active) != len(self.pairs):
-            problem = f"active needs one entry per pair ({len(self.pairs)}), not {len(active)}"
-        for pair, given in zip(self.pairs, active, strict=False):
-            n = pair.Q.dofmap.index_map.size_local * pair.Q.dofmap.index_map_bs
-            if given is None:
-                out.append(None)
-                continue
-            if callable(given):
-                x = pair.Q.tabulate_dof_coordinates()[:n]
-                given = given(x.T.copy())
-            mask = np.asarray(given)
-            if mask.shape != (n,) and not problem:
-                problem = f"an active set has shape {mask.shape}, not ({n},) (owned dofs)"
-            out.append(mask.astype(bool) if mask.shape == (n,) else None)
-        message = [m for m in self.comm.allgather(problem) if m]
-        if message:
-            raise ValueError(message[0])
-        return out
 
     def _finish(self, comp: Complementarity, active: list[npt.NDArray[np.bool_]]) -> None:
         for f, a in zip(self.active, active, strict=True):

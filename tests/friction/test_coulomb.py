@@ -310,6 +310,33 @@ def test_friction_cannot_hold(degree, tau):
         assert last.active == (total,) and last.stick == (total,)
 
 
+def test_first_active_set_is_a_guess():
+    """``solve(active=...)`` from rest: a first guess only, the same answer; checked input."""
+    part, V = patch_scene(1)
+    a, _, v = MATERIAL.forms(V)
+    pair = patch_pair(part, V, 1)
+    L = patch_loads(part, v, 0.75, 0.2)
+    with FrictionalContactProblem(
+        a, L, [pair], patch_bcs(part, V), mu=0.5, petsc_options_prefix="fr_first_"
+    ) as problem:
+        problem.solve()
+        lam = [f.x.array.copy() for f in (*problem.multipliers, *problem.tangential)]
+        problem.solve(active=[lambda x: x[0] < 0.5])
+        assert len(problem.history.steps[0].iterations) > 1  # the guess was wrong
+        new = [f.x.array for f in (*problem.multipliers, *problem.tangential)]
+        error = max(np.max(np.abs(n - o), initial=0.0) for n, o in zip(new, lam, strict=True))
+        scale = max(np.max(np.abs(o), initial=0.0) for o in lam)
+        error, scale = (MPI.COMM_WORLD.allreduce(v, op=MPI.MAX) for v in (error, scale))
+        assert error <= 1e-12 * scale
+        for bad, match in (
+            ({"active": [None, None]}, "one entry per pair"),
+            ({"active": [np.ones(10**6, dtype=bool)]}, "owned dofs"),
+            ({"active": [None], "restart": False}, "from rest"),
+        ):
+            with pytest.raises(ValueError, match=match):
+                problem.solve(**bad)
+
+
 @pytest.mark.parametrize("degree", [1, 2])
 def test_contact_opens_and_frees_a_body(degree):
     """The upper block pulled off (a tension on its top), held by contact alone.
