@@ -41,6 +41,7 @@ plus :math:`\mathbf d` beyond the stick limit: :math:`\mathbf c = \mathbf d` and
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 import typing
@@ -53,10 +54,11 @@ import dolfinx.fem.petsc
 import numpy as np
 import ufl
 
-from dolfinx_contact_s2s import Material, contact_pair, contact_surface
+from dolfinx_contact_s2s import Material, contact_front, contact_pair, contact_surface
 from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.kernels.face_backend import tangents
+from dolfinx_contact_s2s.unilateral.adaptive import RefinementError, refine_contact_zone
 from paper import hertz3d
 from paper.blocks3d import BOTTOM, SIDE_X, TOP, block
 from paper.hertz3d_study import surface_l2
@@ -67,6 +69,10 @@ __all__ = [
     "NU",
     "E",
     "cattaneo_mindlin",
+    "cattaneo_mindlin_adaptive",
+    "cattaneo_mindlin_measure",
+    "cattaneo_mindlin_model",
+    "cattaneo_mindlin_path",
     "extruded",
     "extruded_scene",
     "inclined_block",
@@ -75,6 +81,7 @@ __all__ = [
 
 E, NU = 1.0, 0.3
 G = E / (2 * (1 + NU))
+logger = logging.getLogger("paper.friction3d")
 
 #: Cattaneo-Mindlin: two identical spheres; mu, the approach of the flat faces (a about
 #: 0.05) and their relative motion along x (Q / (mu P) about one half).
@@ -209,6 +216,141 @@ def _owned_nodes(f: dolfinx.fem.Function) -> tuple[np.ndarray, int]:
     return Q.tabulate_dof_coordinates()[:n], n
 
 
+def cattaneo_mindlin_model(
+    mesh: dolfinx.mesh.Mesh, tags: dolfinx.mesh.MeshTags, degree: int
+) -> tuple:
+    """The forms, conditions, pair and the upper face's motion of :func:`cattaneo_mindlin`.
+
+    On the half model of :func:`paper.hertz3d.mesh` (or a refinement of it): the lower
+    far face clamped, :math:`u_y = 0` on the symmetry plane, the upper flat face moved by
+    the returned function; P``degree`` displacements, the P1 multiplier on the lower
+    sphere's cap.
+    """
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
+    form, _, v = Material(E=E, nu=NU).forms(V)
+    L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(3)), v) * ufl.dx
+    motion = dolfinx.fem.Function(V)
+    mesh.topology.create_connectivity(2, 3)
+    top = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["upper_flat"]))
+    far_face = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["lower_far"]))
+    symmetry = dolfinx.fem.locate_dofs_topological(V.sub(1), 2, tags.find(hertz3d.SYM_Y))
+    bcs = [
+        dolfinx.fem.dirichletbc(motion, top),
+        dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), far_face),
+        dolfinx.fem.dirichletbc(0.0, symmetry, V.sub(1)),
+    ]
+    pair = contact_pair(
+        contact_surface(V, tags, hertz3d.TAGS["lower_top"]),
+        contact_surface(V, tags, hertz3d.TAGS["upper_sphere"]),
+        multiplier=("Lagrange", 1),
+    )
+    return form, L, bcs, pair, motion
+
+
+def cattaneo_mindlin_path(
+    problem: FrictionalContactProblem, motion: dolfinx.fem.Function, first: list | None = None
+) -> list[int]:
+    """The load path: the upper face moved down in one frictionless step, then along x in four.
+
+    Frictionless linear contact does not depend on the path to its load: one step
+    (from ``first``, the first active set of ``solve(active=...)``, if given). Returns
+    the linear solves of every step.
+    """
+    motion.interpolate(lambda x: np.stack([0 * x[0], 0 * x[0], -CM_DELTA + 0 * x[0]]))
+    problem.solve([1.0], mu=0.0, active=first)
+    solves = [len(s.iterations) for s in problem.history.steps]
+    for k in range(1, 5):
+        motion.interpolate(
+            lambda x, k=k: np.stack([0 * x[0] + k * CM_SHIFT / 4, 0 * x[0], -CM_DELTA + 0 * x[0]])
+        )
+        problem.solve([1.0], restart=False)
+        solves += [len(s.iterations) for s in problem.history.steps]
+    return solves
+
+
+def cattaneo_mindlin_measure(
+    problem: FrictionalContactProblem, h: float | None = None
+) -> dict[str, typing.Any]:
+    r"""The record of :func:`cattaneo_mindlin` from a solved problem (collective).
+
+    ``h`` is the element size at the contact; ``None`` takes the longest multiplier edge
+    that crosses the stick front (a locally refined mesh). ``c`` is the largest distance
+    from the axis of a sticking node, ``c_middle`` the middle of the stick front's
+    bracket (:func:`~dolfinx_contact_s2s.contact_front` of the stick set), ``a_middle``
+    that of the contact front.
+    """
+    comm, (pair,) = problem.comm, problem.pairs
+    (lam_n,), lam_t = problem.multipliers, problem.tangential
+    # The shear along x from the components along T1, T2 at each node (the lower
+    # sphere's normal there), with the sign of the force on the upper sphere.
+    x, n = _owned_nodes(lam_n)
+    centre = np.array([0.0, 0.0, -CM_SCENE.R2])
+    N = -(x - centre) / np.linalg.norm(x - centre, axis=1)[:, None]
+    axis = problem.tangent_axes[0]
+    shear = sum(
+        f.x.array[:n, None] * tangents(N, axis, k) for k, f in zip((1, 2), lam_t, strict=True)
+    )
+    q = dolfinx.fem.Function(lam_n.function_space)
+    q.x.array[:n] = -shear[:, 0]
+    q.x.scatter_forward()
+    stick = problem.stick[0].x.array[:n] > 0.5
+    V = pair.contactor.V
+    unknowns = 3 * V.dofmap.index_map.size_global + 3 * pair.Q.dofmap.index_map.size_global
+    fronts = [
+        contact_front(f, f, centre=(0, 0, 0), axis=(0, 0, 1))
+        for f in (problem.stick[0], problem.active[0])
+    ]
+
+    def total(f):
+        local = dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx))
+        return 2 * comm.allreduce(local, op=MPI.SUM)
+
+    P, Q = total(lam_n), total(q)
+    E_star, R_star = E / (2 * (1 - NU**2)), CM_SCENE.R1 / 2
+    a = (3 * P * R_star / (4 * E_star)) ** (1 / 3)
+    p0 = 3 * P / (2 * math.pi * a**2)
+    c_exact = a * (1 - Q / (CM_MU * P)) ** (1 / 3)
+
+    def mindlin(y):
+        r2 = y[..., 0] ** 2 + y[..., 1] ** 2
+        root = np.sqrt(np.clip(a**2 - r2, 0, None)) - np.sqrt(np.clip(c_exact**2 - r2, 0, None))
+        return CM_MU * p0 / a * root
+
+    def hertz(y):
+        return p0 * np.sqrt(np.clip(1 - (y[..., 0] ** 2 + y[..., 1] ** 2) / a**2, 0, None))
+
+    q_l2, p_l2 = surface_l2(q, mindlin), surface_l2(lam_n, hertz)
+    r = np.hypot(x[:, 0], x[:, 1])
+    c = comm.allreduce(float(r[stick].max(initial=0.0)), op=MPI.MAX)
+    if h is None:
+        h = float(fronts[0].edge_lengths.max())
+    gathered = [np.concatenate(comm.allgather(v)) for v in (r, q.x.array[:n], lam_n.x.array[:n])]
+    return {
+        "scene": "cattaneo-mindlin-3d",
+        "h": h,
+        "across": 2 * a / h,
+        "P": P,
+        "Q": Q,
+        "Q_over_muP": Q / (CM_MU * P),
+        "a": a,
+        "p0": p0,
+        "c_exact": c_exact,
+        "c": c,
+        "c_error_elements": abs(c - c_exact) / h,
+        "c_error": abs(c - c_exact) / c_exact,
+        "c_middle": fronts[0].middle,
+        "c_bracket": fronts[0].bounds,
+        "c_middle_error": abs(fronts[0].middle - c_exact) / c_exact,
+        "a_middle": fronts[1].middle,
+        "q_L2_error": math.sqrt(q_l2[0] / q_l2[1]),
+        "p_L2_error": math.sqrt(p_l2[0] / p_l2[1]),
+        "unknowns": unknowns,
+        "r": gathered[0],
+        "q": gathered[1],
+        "p": gathered[2],
+    }
+
+
 def cattaneo_mindlin(
     comm: MPI.Comm,
     degree: int = 2,
@@ -229,110 +371,108 @@ def cattaneo_mindlin(
     largest distance from the axis of a sticking multiplier node.
 
     Returns:
-        A record: ``P``, ``Q``, ``a``, ``p0``, ``c_exact``, ``c``, ``h``,
-        ``c_error_elements``, ``c_error``, ``q_L2_error``, ``p_L2_error``,
-        ``solves_per_step``, ``unknowns``, ``seconds``, and the nodes' ``r``, ``q``
-        and ``p`` (gathered, every rank).
+        The record of :func:`cattaneo_mindlin_measure` with ``degree``,
+        ``solves_per_step`` and ``seconds``.
     """
     begin = time.perf_counter()
     mesh, _, tags = hertz3d.mesh(
         comm, CM_SCENE, h=h, reach=reach, far=far, geometry_degree=degree, half=True
     )
-    V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
-    form, _, v = Material(E=E, nu=NU).forms(V)
-    L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(3)), v) * ufl.dx
-    motion = dolfinx.fem.Function(V)
-    mesh.topology.create_connectivity(2, 3)
-    top = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["upper_flat"]))
-    far_face = dolfinx.fem.locate_dofs_topological(V, 2, tags.find(hertz3d.TAGS["lower_far"]))
-    symmetry = dolfinx.fem.locate_dofs_topological(V.sub(1), 2, tags.find(hertz3d.SYM_Y))
-    bcs = [
-        dolfinx.fem.dirichletbc(motion, top),
-        dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), far_face),
-        dolfinx.fem.dirichletbc(0.0, symmetry, V.sub(1)),
-    ]
-    pair = contact_pair(
-        contact_surface(V, tags, hertz3d.TAGS["lower_top"]),
-        contact_surface(V, tags, hertz3d.TAGS["upper_sphere"]),
-        multiplier=("Lagrange", 1),
-    )
-    solves = []
+    form, L, bcs, pair, motion = cattaneo_mindlin_model(mesh, tags, degree)
     with FrictionalContactProblem(
         form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm3d{degree}_"
     ) as problem:
-        motion.interpolate(lambda x: np.stack([0 * x[0], 0 * x[0], -CM_DELTA + 0 * x[0]]))
-        problem.solve([0.25, 0.5, 0.75, 1.0], mu=0.0)
-        solves += [len(s.iterations) for s in problem.history.steps]
-        for k in range(1, 5):
-            motion.interpolate(
-                lambda x, k=k: np.stack(
-                    [0 * x[0] + k * CM_SHIFT / 4, 0 * x[0], -CM_DELTA + 0 * x[0]]
-                )
-            )
-            _, (lam_n,), lam_t = problem.solve([1.0], restart=False)
-            solves += [len(s.iterations) for s in problem.history.steps]
-        # The shear along x from the components along T1, T2 at each node (the lower
-        # sphere's normal there), with the sign of the force on the upper sphere.
-        x, n = _owned_nodes(lam_n)
-        centre = np.array([0.0, 0.0, -CM_SCENE.R2])
-        N = -(x - centre) / np.linalg.norm(x - centre, axis=1)[:, None]
-        axis = problem.tangent_axes[0]
-        shear = sum(
-            f.x.array[:n, None] * tangents(N, axis, k) for k, f in zip((1, 2), lam_t, strict=True)
+        solves = cattaneo_mindlin_path(problem, motion)
+        record = cattaneo_mindlin_measure(problem, h)
+    record.update(
+        degree=degree,
+        solves_per_step=solves,
+        seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+    )
+    return record
+
+
+def cattaneo_mindlin_adaptive(
+    comm: MPI.Comm,
+    degree: int = 2,
+    n: int = 40,
+    *,
+    tolerance: float = 0.1,
+    max_steps: int = 3,
+    **options: typing.Any,
+) -> dict[str, typing.Any]:
+    r""":func:`cattaneo_mindlin` from a user's mesh (size :math:`R/n`), refined by the solution.
+
+    :func:`~dolfinx_contact_s2s.unilateral.adaptive.refine_contact_zone` around the
+    :math:`z`-axis until the brackets of the contact front and the stick front are at
+    most ``tolerance`` times their radii (or ``max_steps`` refinements): new nodes on the
+    spheres (:func:`paper.hertz3d.projection`), geometry of degree ``degree``;
+    ``options`` go to it (e.g. ``peak_tolerance``).
+
+    Returns:
+        The record of :func:`cattaneo_mindlin_measure` on the last mesh (``h`` the
+        longest multiplier edge across the stick front), with ``steps`` (unknowns,
+        widest relative bracket, the errors, solves and seconds of every solve) and
+        ``resolved`` (False: the brackets were still wider than ``tolerance`` after
+        ``max_steps`` refinements).
+    """
+    begin = time.perf_counter()
+    mesh, ct, ft = hertz3d.mesh(
+        comm, CM_SCENE, h=CM_SCENE.R1 / n, reach=0.1, geometry_degree=1, half=True
+    )
+    motion: list = []
+    solves: list[list[int]] = []
+    steps: list[dict[str, typing.Any]] = []
+
+    def build(domain, cell_tags, facet_tags):
+        form, L, bcs, pair, m = cattaneo_mindlin_model(domain, facet_tags, degree)
+        motion[:] = [m]
+        return FrictionalContactProblem(
+            form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm3da{degree}_"
         )
-        q = dolfinx.fem.Function(lam_n.function_space)
-        q.x.array[:n] = -shear[:, 0]
-        q.x.scatter_forward()
-        stick = problem.stick[0].x.array[:n] > 0.5
-        unknowns = 3 * V.dofmap.index_map.size_global + 3 * pair.Q.dofmap.index_map.size_global
 
-        def total(f):
-            local = dolfinx.fem.assemble_scalar(dolfinx.fem.form(f * ufl.dx))
-            return 2 * comm.allreduce(local, op=MPI.SUM)
+    def path(problem, first):
+        solves.append(cattaneo_mindlin_path(problem, motion[0], first))
 
-        P, Q = total(lam_n), total(q)
-        E_star, R_star = E / (2 * (1 - NU**2)), CM_SCENE.R1 / 2
-        a = (3 * P * R_star / (4 * E_star)) ** (1 / 3)
-        p0 = 3 * P / (2 * math.pi * a**2)
-        c_exact = a * (1 - Q / (CM_MU * P)) ** (1 / 3)
+    def on_step(step, problem):
+        rec = cattaneo_mindlin_measure(problem)
+        keys = ("unknowns", "across", "c_middle_error", "q_L2_error", "p_L2_error")
+        steps.append({k: rec[k] for k in keys})
+        logger.info("Cattaneo-Mindlin 3D, mesh %d: %s", step, steps[-1])
 
-        def mindlin(y):
-            r2 = y[..., 0] ** 2 + y[..., 1] ** 2
-            root = np.sqrt(np.clip(a**2 - r2, 0, None)) - np.sqrt(np.clip(c_exact**2 - r2, 0, None))
-            return CM_MU * p0 / a * root
-
-        def hertz(y):
-            return p0 * np.sqrt(np.clip(1 - (y[..., 0] ** 2 + y[..., 1] ** 2) / a**2, 0, None))
-
-        q_l2, p_l2 = surface_l2(q, mindlin), surface_l2(lam_n, hertz)
-        r = np.hypot(x[:, 0], x[:, 1])
-        c = comm.allreduce(float(r[stick].max(initial=0.0)), op=MPI.MAX)
-        gathered = [
-            np.concatenate(comm.allgather(v)) for v in (r, q.x.array[:n], lam_n.x.array[:n])
-        ]
-    return {
-        "scene": "cattaneo-mindlin-3d",
-        "degree": degree,
-        "h": h,
-        "across": 2 * a / h,
-        "P": P,
-        "Q": Q,
-        "Q_over_muP": Q / (CM_MU * P),
-        "a": a,
-        "p0": p0,
-        "c_exact": c_exact,
-        "c": c,
-        "c_error_elements": abs(c - c_exact) / h,
-        "c_error": abs(c - c_exact) / c_exact,
-        "q_L2_error": math.sqrt(q_l2[0] / q_l2[1]),
-        "p_L2_error": math.sqrt(p_l2[0] / p_l2[1]),
-        "solves_per_step": solves,
-        "unknowns": unknowns,
-        "seconds": comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
-        "r": gathered[0],
-        "q": gathered[1],
-        "p": gathered[2],
-    }
+    try:
+        result = refine_contact_zone(
+            build,
+            mesh,
+            ct,
+            ft,
+            tolerance=tolerance,
+            max_steps=max_steps,
+            snap=hertz3d.projection(CM_SCENE),
+            geometry_degree=degree,
+            axis=((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+            solve=path,
+            on_step=on_step,
+            **options,
+        )
+        problem, history, resolved = result.problem, result.history, True
+    except RefinementError as error:  # measured on the last mesh all the same
+        problem, history, resolved = error.problem, error.history, False
+    with problem:
+        record = cattaneo_mindlin_measure(problem)
+    for row, s, k in zip(steps, history, solves, strict=True):
+        row.update(relative=s.relative, solves=sum(k), seconds=s.seconds)
+    record.update(
+        scene="cattaneo-mindlin-3d-adaptive",
+        degree=degree,
+        n=n,
+        tolerance=tolerance,
+        resolved=resolved,
+        steps=steps,
+        solves_per_step=solves[-1],
+        seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
+    )
+    return record
 
 
 def extruded_scene(
