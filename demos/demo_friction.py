@@ -237,74 +237,42 @@ if comm.rank == 0:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rec, x, q, p = traction
-    a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
-    s = np.linspace(-1.3 * a, 1.3 * a, 801)
-    hertz = CM_MU * p0 * np.sqrt(np.clip(1 - s**2 / a**2, 0, None))
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(s / a, hertz / (CM_MU * p0), "k--", lw=0.8, label=r"$\mu p(x)$ (Hertz)")
-    ax.plot(
-        s / a,
-        cattaneo_mindlin_shear(s, a, c, p0) / (CM_MU * p0),
-        "k-",
-        lw=0.8,
-        label="q(x) (Cattaneo-Mindlin)",
-    )
-    keep = np.abs(x) < 1.3 * a
-    ax.plot(
-        x[keep] / a, CM_MU * p[keep] / (CM_MU * p0), "s", ms=3, mfc="none", label=r"$\mu\lambda_n$"
-    )
-    ax.plot(x[keep] / a, q[keep] / (CM_MU * p0), "o", ms=3, label=r"$\lambda_t$")
-    for side in (-1, 1):
-        ax.axvline(side * c / a, color="0.6", lw=0.6)
-    ax.set_xlabel("x / a")
-    ax.set_ylabel(r"traction / ($\mu p_0$)")
-    ax.set_title(f"Cattaneo-Mindlin, P2, {rec['across']} elements across 2a, c/a = {c / a:.3f}")
-    ax.legend(loc="lower center", fontsize="small")
-    fig.tight_layout()
-    fig.savefig(out / "friction.png", dpi=120)
+    def plot_traction(data, mu, title, name):
+        """lambda_n / p0 and lambda_t / (mu p0) against Hertz and Cattaneo-Mindlin."""
+        rec, x, q, p = data
+        a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
+        s = np.linspace(-1.3 * a, 1.3 * a, 801)
+        fig, ax = plt.subplots(figsize=(7, 4))
+        ax.plot(s / a, np.sqrt(np.clip(1 - s**2 / a**2, 0, None)), "k--", lw=0.8, label="Hertz")
+        shear = cattaneo_mindlin_shear(s, a, c, p0, mu) / (mu * p0)
+        ax.plot(s / a, shear, "k-", lw=0.8, label="q(x) (Cattaneo-Mindlin)")
+        keep = np.abs(x) < 1.3 * a
+        ax.plot(x[keep] / a, p[keep] / p0, "s", ms=3, mfc="none", label=r"$\lambda_n / p_0$")
+        ax.plot(x[keep] / a, q[keep] / (mu * p0), "o", ms=3, label=r"$\lambda_t / (\mu p_0)$")
+        for side in (-1, 1):
+            ax.axvline(side * c / a, color="0.6", lw=0.6)
+        ax.set_xlabel("x / a")
+        ax.set_ylabel("traction, scaled")
+        ax.set_title(f"{title}, c/a = {c / a:.3f}")
+        ax.legend(loc="lower center", fontsize="small")
+        fig.tight_layout()
+        fig.savefig(out / name, dpi=120)
 
-    rec, x, q, p = refined
-    a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
-    s = np.linspace(-1.3 * a, 1.3 * a, 801)
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(s / a, np.sqrt(np.clip(1 - s**2 / a**2, 0, None)), "k--", lw=0.8, label="Hertz")
-    ax.plot(s / a, cattaneo_mindlin_shear(s, a, c, p0) / (CM_MU * p0), "k-", lw=0.8, label="q(x)")
-    keep = np.abs(x) < 1.3 * a
-    ax.plot(x[keep] / a, p[keep] / p0, "s", ms=3, mfc="none", label=r"$\lambda_n / p_0$")
-    ax.plot(x[keep] / a, q[keep] / (CM_MU * p0), "o", ms=3, label=r"$\lambda_t / (\mu p_0)$")
-    for side in (-1, 1):
-        ax.axvline(side * c / a, color="0.6", lw=0.6)
-    ax.set_xlabel("x / a")
-    ax.set_ylabel("traction, scaled")
-    ax.set_title(f"Cattaneo-Mindlin, P2 from n = {rec['across']}, refined by the solution")
-    ax.legend(loc="lower center", fontsize="small")
-    fig.tight_layout()
-    fig.savefig(out / "friction_refined.png", dpi=120)
-
-    rec, x, q, p = disks
-    a, c, p0 = rec["a"], rec["c_exact"], rec["p0"]
-    s = np.linspace(-1.3 * a, 1.3 * a, 801)
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(s / a, np.sqrt(np.clip(1 - s**2 / a**2, 0, None)), "k--", lw=0.8, label="Hertz")
-    ax.plot(
-        s / a,
-        cattaneo_mindlin_shear(s, a, c, p0, HD_MU) / (HD_MU * p0),
-        "k-",
-        lw=0.8,
-        label="q(x) (Cattaneo-Mindlin)",
+    plot_traction(
+        traction,
+        CM_MU,
+        f"Cattaneo-Mindlin, P2, {traction[0]['across']} elements across 2a",
+        "friction.png",
     )
-    keep = np.abs(x) < 1.3 * a
-    ax.plot(x[keep] / a, p[keep] / p0, "s", ms=3, mfc="none", label=r"$\lambda_n / p_0$")
-    ax.plot(x[keep] / a, q[keep] / (HD_MU * p0), "o", ms=3, label=r"$\lambda_t / (\mu p_0)$")
-    for side in (-1, 1):
-        ax.axvline(side * c / a, color="0.6", lw=0.6)
-    ax.set_xlabel("x / a")
-    ax.set_ylabel("traction, scaled")
-    ax.set_title(f"Half disks R = 8, P2, h = {rec['h']:g}, c/a = {c / a:.3f}")
-    ax.legend(loc="lower center", fontsize="small")
-    fig.tight_layout()
-    fig.savefig(out / "friction_half_disks.png", dpi=120)
+    plot_traction(
+        refined,
+        CM_MU,
+        f"Cattaneo-Mindlin, P2 from n = {refined[0]['across']}, refined",
+        "friction_refined.png",
+    )
+    plot_traction(
+        disks, HD_MU, f"Half disks R = 8, P2, h = {disks[0]['h']:g}", "friction_half_disks.png"
+    )
 
     def cm_row(r):
         return (

@@ -41,7 +41,6 @@ plus :math:`\mathbf d` beyond the stick limit: :math:`\mathbf c = \mathbf d` and
 
 from __future__ import annotations
 
-import logging
 import math
 import time
 import typing
@@ -58,9 +57,9 @@ from dolfinx_contact_s2s import Material, contact_front, contact_pair, contact_s
 from dolfinx_contact_s2s.assemble import assemble_coupling
 from dolfinx_contact_s2s.friction import FrictionalContactProblem
 from dolfinx_contact_s2s.kernels.face_backend import tangents
-from dolfinx_contact_s2s.unilateral.adaptive import RefinementError, refine_contact_zone
 from paper import hertz3d
 from paper.blocks3d import BOTTOM, SIDE_X, TOP, block
+from paper.friction_adaptive import refined_load_path
 from paper.hertz3d_study import surface_l2
 
 __all__ = [
@@ -81,7 +80,6 @@ __all__ = [
 
 E, NU = 1.0, 0.3
 G = E / (2 * (1 + NU))
-logger = logging.getLogger("paper.friction3d")
 
 #: Cattaneo-Mindlin: two identical spheres; mu, the approach of the flat faces (a about
 #: 0.05) and their relative motion along x (Q / (mu P) about one half).
@@ -420,56 +418,26 @@ def cattaneo_mindlin_adaptive(
     mesh, ct, ft = hertz3d.mesh(
         comm, CM_SCENE, h=CM_SCENE.R1 / n, reach=0.1, geometry_degree=1, half=True
     )
-    motion: list = []
-    solves: list[list[int]] = []
-    steps: list[dict[str, typing.Any]] = []
-
-    def build(domain, cell_tags, facet_tags):
-        form, L, bcs, pair, m = cattaneo_mindlin_model(domain, facet_tags, degree)
-        motion[:] = [m]
-        return FrictionalContactProblem(
-            form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm3da{degree}_"
-        )
-
-    def path(problem, first):
-        solves.append(cattaneo_mindlin_path(problem, motion[0], first))
-
-    def on_step(step, problem):
-        rec = cattaneo_mindlin_measure(problem)
-        keys = ("unknowns", "across", "c_middle_error", "q_L2_error", "p_L2_error")
-        steps.append({k: rec[k] for k in keys})
-        logger.info("Cattaneo-Mindlin 3D, mesh %d: %s", step, steps[-1])
-
-    try:
-        result = refine_contact_zone(
-            build,
-            mesh,
-            ct,
-            ft,
-            tolerance=tolerance,
-            max_steps=max_steps,
-            snap=hertz3d.projection(CM_SCENE),
-            geometry_degree=degree,
-            axis=((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
-            solve=path,
-            on_step=on_step,
-            **options,
-        )
-        problem, history, resolved = result.problem, result.history, True
-    except RefinementError as error:  # measured on the last mesh all the same
-        problem, history, resolved = error.problem, error.history, False
-    with problem:
-        record = cattaneo_mindlin_measure(problem)
-    for row, s, k in zip(steps, history, solves, strict=True):
-        row.update(relative=s.relative, solves=sum(k), seconds=s.seconds)
+    record = refined_load_path(
+        lambda domain, tags: cattaneo_mindlin_model(domain, tags, degree),
+        cattaneo_mindlin_path,
+        cattaneo_mindlin_measure,
+        ("unknowns", "across", "c_middle_error", "q_L2_error", "p_L2_error"),
+        (mesh, ct, ft),
+        mu=CM_MU,
+        prefix=f"cm3da{degree}_",
+        tolerance=tolerance,
+        max_steps=max_steps,
+        snap=hertz3d.projection(CM_SCENE),
+        geometry_degree=degree,
+        axis=((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+        **options,
+    )
     record.update(
         scene="cattaneo-mindlin-3d-adaptive",
         degree=degree,
         n=n,
         tolerance=tolerance,
-        resolved=resolved,
-        steps=steps,
-        solves_per_step=solves[-1],
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
     )
     return record
