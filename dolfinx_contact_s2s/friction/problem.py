@@ -232,8 +232,9 @@ class FrictionalContactProblem(ContactProblemBase):
             :math:`\lambda_t` of every pair, at the last load factor.
 
         Raises:
-            ValueError: On every rank, if the model is singular, a factor not finite or
-                ``active`` has not one entry per pair of the right size.
+            ValueError: On every rank, if the model is singular, a factor not finite,
+                ``active`` has not one entry per pair of the right size, or ``after`` is
+                unsolved or has other spaces or pairs.
             ContactConvergenceError: On every rank, if a load step does not converge, or
                 if the slip of a solve leaves free a body that only friction holds (its
                 tangential load exceeds :math:`\mu` times its normal load), naming it.
@@ -246,6 +247,16 @@ class FrictionalContactProblem(ContactProblemBase):
             raise ValueError(problems[0])
         if active is not None and (not restart or after is not None):
             raise ValueError("active is a first guess from rest: not with restart=False or after")
+        if after is not None and not (
+            len(after.pairs) == len(self.pairs)
+            and all(p is q for p, q in zip(after.pairs, self.pairs, strict=False))
+            and all(V is W for V, W in zip(after.spaces, self.spaces, strict=False))
+            and after._friction is not None
+        ):
+            raise ValueError(
+                "after= continues a solved problem on the same spaces and pairs: build "
+                "this problem with the other one's pair objects, after its solve"
+            )
         given = given_active(self.pairs, self.comm, active)
         source = (self if after is None else after)._friction
         state = None if (restart and after is None) or source is None else source.state()

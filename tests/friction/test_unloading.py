@@ -136,3 +136,19 @@ def test_unloading_released(degree):
         ) as free:
             (u,), (lam_n,), (lam_t,) = free.solve(after=held)
             _check(free, pair, V, part, u, lam_n, lam_t, MU * P / 2, D, True)
+
+        # Another pair object on the same surfaces, or a problem not solved yet: refused.
+        def problem(pairs, prefix):
+            return FrictionalContactProblem(
+                a, L_free, pairs, patch_bcs(part, V), mu=MU, petsc_options_prefix=prefix
+            )
+
+        other = patch_pair(part, V, degree)
+        with problem([other], "fr_other_") as bad, pytest.raises(ValueError, match="same spaces"):
+            bad.solve(after=held)
+        with (
+            problem([pair], "fr_unsolved_") as unsolved,
+            problem([pair], "fr_bad_") as bad,
+            pytest.raises(ValueError, match="same spaces and pairs"),
+        ):
+            bad.solve(after=unsolved)
