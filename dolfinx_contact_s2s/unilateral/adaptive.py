@@ -77,7 +77,8 @@ class AdaptiveStep:
             or the ``length`` given).
         zones: The contact zones of every pair (2D models; empty in 3D).
         seconds: Wall time of the step (build, solve and post-processing; rank 0's).
-        solves: Linear solves of the active-set iteration of the step.
+        solves: Linear solves of the active-set iteration of the step (of the last
+            ``problem.solve`` call of a load path given as ``solve``).
         restarted: Whether the step started from the previous step's contact zones.
         fronts: The contact front of every pair (3D models; empty in 2D).
         peak_change: Largest relative change of a pair's peak :math:`\lambda` since
