@@ -94,7 +94,7 @@ from paper.friction import (
 )
 from paper.friction_adaptive import cattaneo_mindlin_adaptive
 from paper.records import merge_rank_records
-from paper.report import demo_parser, output_folder, rank0_print, write_section
+from paper.report import demo_parser, output_folder, rank0_print, verdict, write_section
 
 args = demo_parser(
     "Coulomb friction in 2D: Cattaneo-Mindlin, inclined block, patch tests",
@@ -309,10 +309,7 @@ if comm.rank == 0:
     lines = [
         "## Coulomb friction in 2D",
         "",
-        f"`demos/demo_friction.py`, {comm.size} rank(s)"
-        + (" (smoke run)" if args.smoke else "")
-        + ": "
-        + ("all checks met." if not failed else "FAILED: " + "; ".join(failed)),
+        verdict("demo_friction.py", comm, args.smoke, failed),
         "",
         "Cattaneo-Mindlin (two half cylinders R = 1, a ≈ 0.05, μ = 0.2, Q/(μP) ≈ 0.5; "
         "n elements across 2a, no node at the contact edges; c: the outermost sticking "

@@ -52,7 +52,7 @@ from paper.friction3d import (
     patch,
 )
 from paper.records import merge_rank_records
-from paper.report import demo_parser, output_folder, rank0_print, write_section
+from paper.report import demo_parser, output_folder, rank0_print, verdict, write_section
 
 args = demo_parser(
     "Coulomb friction in 3D: patch tests, Cattaneo-Mindlin between spheres",
@@ -180,10 +180,7 @@ if comm.rank == 0:
     lines = [
         "## Coulomb friction in 3D",
         "",
-        f"`demos/demo_friction_3d.py`, {comm.size} rank(s)"
-        + (" (smoke run)" if args.smoke else "")
-        + ": "
-        + ("all checks met." if not failed else "FAILED: " + "; ".join(failed)),
+        verdict("demo_friction_3d.py", comm, args.smoke, failed),
         "",
         f"Frictional patch tests ({len(patches)} cases: stick and slip; tets/hexes, P1/P2, "
         "nodes moved or not): largest relative errors "

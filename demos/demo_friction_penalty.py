@@ -48,7 +48,7 @@ import numpy as np
 
 from paper.friction_penalty import study
 from paper.records import merge_rank_records
-from paper.report import demo_parser, output_folder, rank0_print, write_section
+from paper.report import demo_parser, output_folder, rank0_print, verdict, write_section
 
 args = demo_parser(
     "Regularized (penalty) friction against the Lagrange solution on Cattaneo-Mindlin",
@@ -133,10 +133,7 @@ if comm.rank == 0:
     lines = [
         "## Regularized (penalty) friction against the Lagrange multipliers",
         "",
-        f"`demos/demo_friction_penalty.py`, {comm.size} rank(s)"
-        + (" (smoke run)" if args.smoke else "")
-        + ": "
-        + ("all checks met." if not failed else "FAILED: " + "; ".join(failed)),
+        verdict("demo_friction_penalty.py", comm, args.smoke, failed),
         "",
         "Cattaneo-Mindlin (P2, 20 elements across 2a, μ = 0.2, the load path of the friction "
         "section) by `FrictionalContactProblem` and by `RegularizedFrictionProblem` per "

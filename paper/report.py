@@ -15,7 +15,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-__all__ = ["TITLE", "demo_parser", "output_folder", "rank0_print", "write_section"]
+__all__ = ["TITLE", "demo_parser", "output_folder", "rank0_print", "verdict", "write_section"]
 
 #: The first line of a new report.
 TITLE = "# dolfinx_contact_s2s: results"
@@ -51,6 +51,12 @@ def write_section(
     else:
         text = text.rstrip("\n") + "\n\n" + body + "\n"
     path.write_text(text)
+
+
+def verdict(demo: str, comm: MPI.Comm, smoke: bool, failed: Sequence[str]) -> str:
+    """A demo section's first line: the script, its ranks, smoke or not, and its checks."""
+    state = "all checks met." if not failed else "FAILED: " + "; ".join(failed)
+    return f"`demos/{demo}`, {comm.size} rank(s)" + (" (smoke run)" if smoke else "") + ": " + state
 
 
 def demo_parser(
