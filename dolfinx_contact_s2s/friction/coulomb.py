@@ -394,7 +394,10 @@ class CoulombFriction:
             projector = np.eye(self.directions) - np.einsum("pk,pl->pkl", signs, signs)
             self.curvature[j] = beta[:, None, None] * projector
             self.scales[j] = scales[j].array_r.copy()
-            turned = np.linalg.norm(signs - self.signs[j], axis=1) > np.sqrt(tolerance)
+            # Without a bound (mu = 0, or no pressure) the direction changes no row.
+            turned = (np.linalg.norm(signs - self.signs[j], axis=1) > np.sqrt(tolerance)) & (
+                bound > 0
+            )
             changed += int(np.count_nonzero((stick != was) | turned))
             self.stick[j], self.signs[j], self.active[j] = stick, signs, active[j].copy()
         worst = comm.allreduce(worst, op=MPI.MAX)
