@@ -22,6 +22,7 @@ Collective; the same numbers on every process, whatever the partition.
 from __future__ import annotations
 
 import math
+import typing
 from dataclasses import dataclass, field
 
 import basix
@@ -29,7 +30,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["ContactFront", "contact_front"]
+__all__ = ["ContactFront", "contact_front", "curvature_indicator"]
 
 
 @dataclass(frozen=True)
@@ -217,3 +218,66 @@ def contact_front(
         X[top].copy() if corners.size else np.full(3, np.nan),
         float(lengths.max()) if lengths.size else math.nan,
     )
+
+
+def curvature_indicator(
+    fields: typing.Sequence[dolfinx.fem.Function], active: dolfinx.fem.Function | None = None
+) -> tuple[npt.NDArray[np.floating], npt.NDArray[np.floating], npt.NDArray[np.floating]]:
+    r"""How well the multiplier faces resolve a field inside a 3D contact zone (collective).
+
+    At every active node whose neighbours (the other vertices of its faces) are all
+    active: the distance of the field from the plane fitted by least squares, in the
+    node's tangent plane, to its neighbours' values, relative to the largest value over
+    the active nodes. The 3D form of the 2D pressure indicator (the distance from the line
+    through the two neighbours): zero for a linear field, about :math:`h^2 |\nabla^2
+    \lambda|` for a smooth one (on a centrally symmetric ring, the mean of
+    :math:`\frac12 \mathbf d^T \nabla^2 \lambda\, \mathbf d` over the offsets
+    :math:`\mathbf d` of the neighbours). A vector field (the components of
+    :math:`\lambda_t`) is measured by the Euclidean norms of its values and residuals.
+
+    Args:
+        fields: The components of one multiplier on the faces of a 3D model's pair.
+        active: The active set (``None``: where the first component is positive).
+
+    Returns:
+        The nodes ``(n, 3)``, their indicators ``(n,)`` and the longest edge at each
+        ``(n,)``; the same on every process.
+    """
+    X, first, on, faces = _gather(fields[0], active)
+    values = np.stack([first] + [_gather(f, active)[1] for f in fields[1:]], axis=1)
+    ref = basix.topology(basix.CellType[fields[0].function_space.mesh.topology.cell_name()])[1]
+    edges = np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
+    edges = np.concatenate([edges, edges[:, ::-1]])  # directed: from node k to neighbour j
+    k, j = edges[:, 0], edges[:, 1]
+    size = X.shape[0]
+    outside = np.zeros(size, dtype=int)
+    np.add.at(outside, k, ~on[j])
+    # The tangent plane: the main direction of the nodes' face normals (any orientation).
+    corners = X[faces[:, :3]]
+    n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    scatter = np.zeros((size, 3, 3))
+    for c in range(faces.shape[1]):
+        np.add.at(scatter, faces[:, c], np.einsum("fi,fj->fij", n, n))
+    normal = np.linalg.eigh(scatter)[1][:, :, -1]
+    least = np.eye(3)[np.argmin(np.abs(normal), axis=1)]
+    t1 = least - np.einsum("ni,ni->n", least, normal)[:, None] * normal
+    t1 /= np.maximum(np.linalg.norm(t1, axis=1), 1e-300)[:, None]
+    t2 = np.cross(normal, t1)
+    d = X[j] - X[k]
+    rows = np.stack(
+        [np.ones(len(k)), np.einsum("ei,ei->e", d, t1[k]), np.einsum("ei,ei->e", d, t2[k])], 1
+    )
+    gram, rhs = np.zeros((size, 3, 3)), np.zeros((size, 3, values.shape[1]))
+    np.add.at(gram, k, np.einsum("ei,ej->eij", rows, rows))
+    np.add.at(rhs, k, np.einsum("ei,ec->eic", rows, values[j]))
+    longest = np.zeros(size)
+    np.maximum.at(longest, k, np.linalg.norm(d, axis=1))
+    count = np.bincount(k, minlength=size)
+    inside = on & (outside == 0) & (count >= 3)
+    # A ring whose neighbours lie on a line has no plane (a singular Gram matrix).
+    inside &= np.abs(np.linalg.det(gram)) > 1e-12 * np.maximum(longest, 1e-300) ** 4 * count**3
+    fit = np.linalg.solve(gram[inside], rhs[inside])[:, 0, :]
+    top = float(np.max(np.linalg.norm(values[on], axis=1), initial=0.0))
+    eta = np.linalg.norm(values[inside] - fit, axis=1) / max(top, 1e-300)
+    return X[inside], eta, longest[inside]

@@ -14,6 +14,14 @@ pair's multiplier lives on the contactor's faces):
   :math:`L^2/(4a)` of :math:`r = a` (the interpolation error of a quadratic,
   :math:`L^2 \max|f''|/8` with :math:`|f''| \le 2/a^2`, over the slope
   :math:`|\nabla f| \ge 1/a` near :math:`r = a`, for edges of length :math:`L`).
+
+The curvature indicator on the same faces (edges of length :math:`h = 1/N` along
+:math:`x` and :math:`y`, one diagonal per square, so every interior ring is the six
+offsets :math:`\pm h(1, 0), \pm h(0, 1), \pm h(1, 1)` or :math:`\pm h(1, -1)`): on a
+centrally symmetric ring the fitted plane passes through the neighbours' mean, so the
+indicator of :math:`\lambda` is :math:`|\overline{\lambda(\mathbf x + \mathbf d)} -
+\lambda(\mathbf x)|` over the offsets, :math:`\frac{4}{3}h^2` for :math:`x^2 + y^2`
+and zero for a linear field and for :math:`x^2 - y^2`.
 """
 
 from mpi4py import MPI
@@ -23,6 +31,7 @@ import numpy as np
 import pytest
 
 from dolfinx_contact_s2s import contact_front
+from dolfinx_contact_s2s.contact_front import curvature_indicator
 
 N = 16
 
@@ -111,3 +120,34 @@ def test_bad_input():
     flat = dolfinx.fem.Function(dolfinx.fem.functionspace(square, ("Lagrange", 1)))
     with pytest.raises(ValueError, match="faces of a 3D model"):
         contact_front(flat, centre=(0, 0, 0), axis=(0, 0, 1))
+
+
+def test_curvature_indicator_closed_forms():
+    """4/3 h^2 for x^2 + y^2 (relative to its largest value), zero for linear and x^2 - y^2."""
+    Q = _face_space()
+    h = 1.0 / N
+
+    def interior(points):  # the nodes off the face's boundary (their rings: six offsets)
+        return np.all((points[:, :2] > 0.5 * h) & (points[:, :2] < 1 - 0.5 * h), axis=1)
+
+    def r2(x):
+        return x[0] ** 2 + x[1] ** 2
+
+    points, eta, longest = curvature_indicator([_field(Q, r2)])
+    inner = interior(points)
+    assert np.count_nonzero(inner) == (N - 1) ** 2  # all active: the field is positive
+    top = 2.0  # x^2 + y^2 at the corner (1, 1)
+    assert np.allclose(eta[inner], 4.0 / 3.0 * h**2 / top, rtol=1e-10)
+    assert np.allclose(longest[inner], np.sqrt(2) * h, rtol=1e-12)
+    for f in (lambda x: 3.0 + x[0] - 2 * x[1], lambda x: 3.0 + x[0] ** 2 - x[1] ** 2):
+        points, eta, _ = curvature_indicator([_field(Q, f)])
+        assert np.max(eta[interior(points)]) < 1e-13
+    # Two components: the norms of the values and of the residuals.
+    parts = [_field(Q, lambda x: 0.6 * r2(x)), _field(Q, lambda x: 0.8 * r2(x))]
+    points, eta, _ = curvature_indicator(parts)
+    assert np.allclose(eta[interior(points)], 4.0 / 3.0 * h**2 / top, rtol=1e-10)
+    # Only nodes whose whole ring is active: x < 0.5 active leaves x <= 6 h.
+    flags = _field(Q, lambda x: (x[0] < 0.5 - 0.25 * h).astype(float))
+    points, _, _ = curvature_indicator([_field(Q, lambda x: x[0] ** 2)], flags)
+    assert np.all(points[:, 0] < 0.5 - 1.5 * h)
+    assert np.count_nonzero(interior(points)) == 6 * (N - 1)

@@ -19,7 +19,9 @@ In 3D the edge is a closed curve on the contactor's faces: its bracket is that o
 mean radius of the zero crossings of :math:`\lambda` around an axis the user gives
 (:func:`~dolfinx_contact_s2s.contact_front.contact_front`); the cells near every
 crossing are refined, and a new multiplier node starts active if it lies within the
-previous estimate of the radius.
+previous estimate of the radius. Inside the zones
+(``pressure_tolerance``, :mod:`.indicators`) the mesh is refined where the multiplier
+is far from the line (2D) or the plane (3D) through its neighbours' values.
 
 With friction (a :class:`~dolfinx_contact_s2s.friction.FrictionalContactProblem`,
 solved along the user's load path) the edges of the stick zones are refined the same
@@ -53,6 +55,12 @@ from dolfinx_contact_s2s.postprocess import (
     pressure_profile,
 )
 from dolfinx_contact_s2s.problem import ContactProblemBase
+from dolfinx_contact_s2s.unilateral.indicators import (
+    curvature_balls,
+    marked_edges,
+    peak_ball,
+    pressure_balls,
+)
 from dolfinx_contact_s2s.unilateral.problem import UnilateralContactProblem
 
 __all__ = [
@@ -207,58 +215,6 @@ def inside_zones(
     return marker
 
 
-def _pressure_balls(
-    profile: PressureProfile, zones: Sequence[ContactZone], tolerance: float, layers: float
-) -> tuple[float, list[npt.NDArray[np.floating]]]:
-    r"""The largest pressure indicator of the zones and the balls around the nodes above it.
-
-    The indicator of an active node whose neighbours are active is the distance of its
-    :math:`\lambda` from the line through its neighbours' (a second difference along the
-    arclength), relative to the zone's largest :math:`\lambda`: it measures the
-    interpolation error of the pressure and its oscillations (e.g. at the end of a
-    contactor). Nodes within a tenth of the zone's length of a bracketed edge are left to
-    the edge's own criterion: there the pressure falls like a square root, whose second
-    difference shrinks only like the square root of the spacing.
-    """
-    worst, balls = 0.0, []
-    for z in zones:
-        sel = np.flatnonzero(
-            (profile.chain == z.chain)
-            & (profile.s >= z.start.inside - 1e-14)
-            & (profile.s <= z.end.inside + 1e-14)
-        )
-        if sel.size < 3:
-            continue
-        s, p, x = profile.s[sel], profile.pressure[sel], profile.x[sel]
-        top = max(float(np.max(np.abs(p))), 1e-300)
-        left, right = s[1:-1] - s[:-2], s[2:] - s[1:-1]
-        line = (p[:-2] * right + p[2:] * left) / np.maximum(left + right, 1e-300)
-        eta = np.abs(p[1:-1] - line) / top
-        layer = 0.1 * (z.end.inside - z.start.inside)
-        if z.start.method != "end":
-            eta[s[1:-1] < z.start.inside + layer] = 0.0
-        if z.end.method != "end":
-            eta[s[1:-1] > z.end.inside - layer] = 0.0
-        worst = max(worst, float(np.max(eta)))
-        for k in np.flatnonzero(eta > tolerance):
-            radius = layers * max(left[k], right[k])
-            balls += [np.append(x[k + m], radius) for m in (0, 1, 2)]
-    return worst, balls
-
-
-def _peak(profile: PressureProfile, layers: float = 1.0) -> tuple[float, npt.NDArray]:
-    """A 2D pair's largest lambda and the ball of ``layers`` node spacings around its node."""
-    if not profile.pressure.size:
-        return 0.0, np.full(profile.x.shape[1] + 1, np.nan)
-    k = int(np.argmax(profile.pressure))
-    same = np.flatnonzero(profile.chain == profile.chain[k])
-    s = profile.s[same]
-    j = int(np.searchsorted(s, profile.s[k]))
-    gaps = np.diff(s)[max(j - 1, 0) : j + 1]
-    spacing = float(gaps.max()) if gaps.size else 0.0
-    return float(profile.pressure[k]), np.append(profile.x[k], layers * spacing)
-
-
 def _fronts(
     problem: ContactProblemBase, axis: tuple[npt.ArrayLike, npt.ArrayLike], stick: bool = False
 ) -> list[ContactFront]:
@@ -283,20 +239,6 @@ def _inside_front(
         return np.linalg.norm(d - np.outer(d @ n, n), axis=1) <= front.radius
 
     return marker
-
-
-def _mark(mesh: dolfinx.mesh.Mesh, balls: npt.NDArray[np.floating]) -> npt.NDArray[np.int32]:
-    """Local edges of the cells whose midpoint lies in a ball ``(centre..., radius)``."""
-    tdim, gdim = mesh.topology.dim, mesh.geometry.dim
-    num = mesh.topology.index_map(tdim).size_local
-    cells = np.arange(num, dtype=np.int32)
-    mid = dolfinx.mesh.compute_midpoints(mesh, tdim, cells)[:, :gdim]
-    near = np.zeros(num, dtype=bool)
-    for ball in balls:
-        near |= np.linalg.norm(mid - ball[:gdim], axis=1) <= ball[gdim]
-    mesh.topology.create_entities(1)
-    mesh.topology.create_connectivity(tdim, 1)
-    return dolfinx.mesh.compute_incident_entities(mesh.topology, cells[near], tdim, 1)
 
 
 def refine_contact_zone(
@@ -371,8 +313,9 @@ def refine_contact_zone(
             zones (else from the problem's ``start``).
         pressure_tolerance: Also refine inside the zones, around every active node
             whose :math:`\lambda` lies farther than this (relative to the zone's largest
-            :math:`\lambda`) from the line through its two neighbours', until none
-            does (``None``: the edges only).
+            :math:`\lambda`) from the line through its two neighbours' (3D: the plane
+            fitted to its neighbours', also of :math:`\lambda_t` with friction), until
+            none does (``None``: the edges only).
         peak_tolerance: Also refine around the node of every pair's largest
             :math:`\lambda` (the peak pressure; ``layers`` of its longest edge), until
             the peak changes by at most this (relative) over a step: the change is then
@@ -402,7 +345,7 @@ def refine_contact_zone(
         NotImplementedError: On every rank, for a mesh that is not made of simplices
             with a linear coordinate element (DOLFINx refines those only).
         ValueError: On every rank, for a bad argument or a problem without contact (in
-            3D: without ``axis``, or with ``pressure_tolerance``).
+            3D: without ``axis``).
         RefinementError: On every rank, if an edge is still too wide after
             ``max_steps`` refinements; it names the widest bracket reached.
     """
@@ -444,8 +387,6 @@ def refine_contact_zone(
     three = meshes[0].topology.dim == 3
     if three and axis is None:
         raise ValueError("a 3D model needs the axis (point, direction) of its contact fronts")
-    if three and pressure_tolerance is not None:
-        raise ValueError("pressure_tolerance refines 2D models only")
     if three:
         assert axis is not None
         c, n = (np.asarray(v, dtype=np.float64).reshape(-1) for v in axis)
@@ -512,13 +453,19 @@ def refine_contact_zone(
                     radius = layers * edge.bracket
                     wide += [np.append(p, radius) for p in edge.bracket_points]
         indicator = 0.0
+        if pressure_tolerance is not None and three:
+            assert axis is not None
+            indicator, balls = curvature_balls(
+                problem, axis, fronts + stick_fronts, pressure_tolerance, layers
+            )
+            wide += balls
         if pressure_tolerance is not None:
             for profile, pair_zones in zip(profiles, zones, strict=True):
-                eta, balls = _pressure_balls(profile, pair_zones, pressure_tolerance, layers)
+                eta, balls = pressure_balls(profile, pair_zones, pressure_tolerance, layers)
                 indicator, wide = max(indicator, eta), wide + balls
         change = math.nan
         if peak_tolerance is not None:
-            now = [f.peak for f in fronts] if three else [_peak(p)[0] for p in profiles]
+            now = [f.peak for f in fronts] if three else [peak_ball(p)[0] for p in profiles]
             if peaks:
                 change = max(
                     abs(b - a) / max(abs(b), 1e-300) for a, b in zip(peaks, now, strict=True)
@@ -527,7 +474,7 @@ def refine_contact_zone(
                 wide += (
                     [np.append(f.peak_point, layers * f.peak_length) for f in fronts]
                     if three
-                    else [_peak(p, layers)[1] for p in profiles]
+                    else [peak_ball(p, layers)[1] for p in profiles]
                 )
             peaks = now
         seconds = problem.comm.bcast(time.perf_counter() - begin, root=0)
@@ -567,7 +514,7 @@ def refine_contact_zone(
             break
         balls = np.array(wide)
         for k, m in enumerate(meshes):
-            edges = _mark(m, balls)
+            edges = marked_edges(m, balls)
             meshes[k], (ctags[k], ftags[k]) = refine_marked(m, edges, (ctags[k], ftags[k]))
             if snaps[k] is not None:
                 snap_boundary(meshes[k], ftags[k], snaps[k])

@@ -122,14 +122,13 @@ def test_quadrilaterals_and_bad_arguments():
 
 
 def test_bad_axis_of_a_3d_model():
-    """A tetrahedral model needs a point and a nonzero direction; no pressure_tolerance."""
+    """A tetrahedral model needs a point and a nonzero direction."""
     cube = dolfinx.mesh.create_unit_cube(MPI.COMM_WORLD, 1, 1, 1)
     tags = dolfinx.mesh.meshtags(cube, 2, np.empty(0, np.int32), np.empty(0, np.int32))
     for bad, match in (
         ({}, "needs the axis"),
         ({"axis": ((0, 0, 0), (0, 0, 0))}, "nonzero direction"),
         ({"axis": ((0, 0), (0, 0, 1))}, "nonzero direction"),
-        ({"axis": ((0, 0, 0), (0, 0, 1)), "pressure_tolerance": 0.1}, "2D models only"),
     ):
         with pytest.raises(ValueError, match=match):
             refine_contact_zone(lambda *args: None, cube, tags, tags, **bad)
