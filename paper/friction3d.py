@@ -218,17 +218,17 @@ def _owned_nodes(f: dolfinx.fem.Function) -> tuple[np.ndarray, int]:
 
 
 def cattaneo_mindlin_model(
-    mesh: dolfinx.mesh.Mesh, tags: dolfinx.mesh.MeshTags, degree: int
+    mesh: dolfinx.mesh.Mesh, tags: dolfinx.mesh.MeshTags, degree: int, nu: float = NU
 ) -> tuple:
     """The forms, conditions, pair and the upper face's motion of :func:`cattaneo_mindlin`.
 
     On the half model of :func:`paper.hertz3d.mesh` (or a refinement of it): the lower
     far face clamped, :math:`u_y = 0` on the symmetry plane, the upper flat face moved by
     the returned function; P``degree`` displacements, the P1 multiplier on the lower
-    sphere's cap.
+    sphere's cap; Poisson's ratio ``nu``.
     """
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (3,)))
-    form, _, v = Material(E=E, nu=NU).forms(V)
+    form, _, v = Material(E=E, nu=nu).forms(V)
     L = ufl.inner(dolfinx.fem.Constant(mesh, np.zeros(3)), v) * ufl.dx
     motion = dolfinx.fem.Function(V)
     mesh.topology.create_connectivity(2, 3)
@@ -249,20 +249,29 @@ def cattaneo_mindlin_model(
 
 
 def cattaneo_mindlin_path(
-    problem: FrictionalContactProblem, motion: dolfinx.fem.Function, first: list | None = None
+    problem: FrictionalContactProblem,
+    motion: dolfinx.fem.Function,
+    first: list | None = None,
+    steps: int = 4,
 ) -> list[int]:
-    """The load path: the upper face moved down in one frictionless step, then along x in four.
+    """The load path: the upper face moved down in one frictionless step, then along x.
 
     Frictionless linear contact does not depend on the path to its load: one step
-    (from ``first``, the first active set of ``solve(active=...)``, if given). Returns
+    (from ``first``, the first active set of ``solve(active=...)``, if given). The
+    tangential motion in ``steps`` equal steps: under a monotonic tangential load the
+    stick zone only shrinks and the slips point along +x, so the end of the path hardly
+    depends on them (one step against four, h = 0.014, nu = 0: the shear differs by
+    8.8e-5 of its peak, from the slip directions' small turns over the path). Returns
     the linear solves of every step.
     """
     motion.interpolate(lambda x: np.stack([0 * x[0], 0 * x[0], -CM_DELTA + 0 * x[0]]))
     problem.solve([1.0], mu=0.0, active=first)
     solves = [len(s.iterations) for s in problem.history.steps]
-    for k in range(1, 5):
+    for k in range(1, steps + 1):
         motion.interpolate(
-            lambda x, k=k: np.stack([0 * x[0] + k * CM_SHIFT / 4, 0 * x[0], -CM_DELTA + 0 * x[0]])
+            lambda x, k=k: np.stack(
+                [0 * x[0] + k * CM_SHIFT / steps, 0 * x[0], -CM_DELTA + 0 * x[0]]
+            )
         )
         problem.solve([1.0], restart=False)
         solves += [len(s.iterations) for s in problem.history.steps]
@@ -270,7 +279,7 @@ def cattaneo_mindlin_path(
 
 
 def cattaneo_mindlin_measure(
-    problem: FrictionalContactProblem, h: float | None = None
+    problem: FrictionalContactProblem, h: float | None = None, nu: float = NU
 ) -> dict[str, typing.Any]:
     r"""The record of :func:`cattaneo_mindlin` from a solved problem (collective).
 
@@ -307,7 +316,7 @@ def cattaneo_mindlin_measure(
         return 2 * comm.allreduce(local, op=MPI.SUM)
 
     P, Q = total(lam_n), total(q)
-    E_star, R_star = E / (2 * (1 - NU**2)), CM_SCENE.R1 / 2
+    E_star, R_star = E / (2 * (1 - nu**2)), CM_SCENE.R1 / 2
     a = (3 * P * R_star / (4 * E_star)) ** (1 / 3)
     p0 = 3 * P / (2 * math.pi * a**2)
     c_exact = a * (1 - Q / (CM_MU * P)) ** (1 / 3)
@@ -359,6 +368,8 @@ def cattaneo_mindlin(
     reach: float = 0.1,
     *,
     far: float | None = None,
+    nu: float = NU,
+    steps: int = 4,
 ) -> dict[str, typing.Any]:
     r"""Cattaneo-Mindlin between two identical spheres: tetrahedra of size ``h`` near the contact.
 
@@ -369,24 +380,26 @@ def cattaneo_mindlin(
     :math:`\lambda_n` and of the shear along :math:`x` over the half model; Hertz with
     :math:`R^* = R/2` and :math:`E^* = E / (2(1 - \nu^2))` gives :math:`a` and :math:`p_0`
     from :math:`P`, and :math:`c = a (1 - Q/(\mu P))^{1/3}`. The measured :math:`c` is the
-    largest distance from the axis of a sticking multiplier node.
+    largest distance from the axis of a sticking multiplier node. Poisson's ratio ``nu``
+    (Mindlin's solution is exact at 0); the tangential motion in ``steps`` steps.
 
     Returns:
-        The record of :func:`cattaneo_mindlin_measure` with ``degree``,
+        The record of :func:`cattaneo_mindlin_measure` with ``degree``, ``nu``,
         ``solves_per_step`` and ``seconds``.
     """
     begin = time.perf_counter()
     mesh, _, tags = hertz3d.mesh(
         comm, CM_SCENE, h=h, reach=reach, far=far, geometry_degree=degree, half=True
     )
-    form, L, bcs, pair, motion = cattaneo_mindlin_model(mesh, tags, degree)
+    form, L, bcs, pair, motion = cattaneo_mindlin_model(mesh, tags, degree, nu)
     with FrictionalContactProblem(
         form, L, [pair], bcs, mu=CM_MU, petsc_options_prefix=f"cm3d{degree}_"
     ) as problem:
-        solves = cattaneo_mindlin_path(problem, motion)
-        record = cattaneo_mindlin_measure(problem, h)
+        solves = cattaneo_mindlin_path(problem, motion, steps=steps)
+        record = cattaneo_mindlin_measure(problem, h, nu)
     record.update(
         degree=degree,
+        nu=nu,
         solves_per_step=solves,
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
     )
@@ -400,6 +413,8 @@ def cattaneo_mindlin_adaptive(
     *,
     tolerance: float = 0.1,
     max_steps: int = 3,
+    nu: float = NU,
+    steps: int = 4,
     **options: typing.Any,
 ) -> dict[str, typing.Any]:
     r""":func:`cattaneo_mindlin` from a user's mesh (size :math:`R/n`), refined by the solution.
@@ -408,7 +423,8 @@ def cattaneo_mindlin_adaptive(
     :math:`z`-axis until the brackets of the contact front and the stick front are at
     most ``tolerance`` times their radii (or ``max_steps`` refinements): new nodes on the
     spheres (:func:`paper.hertz3d.projection`), geometry of degree ``degree``;
-    ``options`` go to it (e.g. ``peak_tolerance``).
+    ``options`` go to it (e.g. ``pressure_tolerance``). ``nu`` and ``steps`` as in
+    :func:`cattaneo_mindlin`.
 
     Returns:
         The record of :func:`cattaneo_mindlin_measure` on the last mesh (``h`` the
@@ -422,9 +438,9 @@ def cattaneo_mindlin_adaptive(
         comm, CM_SCENE, h=CM_SCENE.R1 / n, reach=0.1, geometry_degree=1, half=True
     )
     record = refined_load_path(
-        lambda domain, tags: cattaneo_mindlin_model(domain, tags, degree),
-        cattaneo_mindlin_path,
-        cattaneo_mindlin_measure,
+        lambda domain, tags: cattaneo_mindlin_model(domain, tags, degree, nu),
+        lambda problem, motion, first: cattaneo_mindlin_path(problem, motion, first, steps),
+        lambda problem: cattaneo_mindlin_measure(problem, nu=nu),
         ("unknowns", "across", "c_middle_error", "q_L2_error", "p_L2_error"),
         (mesh, ct, ft),
         mu=CM_MU,
@@ -439,6 +455,7 @@ def cattaneo_mindlin_adaptive(
     record.update(
         scene="cattaneo-mindlin-3d-adaptive",
         degree=degree,
+        nu=nu,
         n=n,
         tolerance=tolerance,
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),

@@ -258,6 +258,7 @@ def adaptive(
     max_steps: int = 3,
     layers: float = 2.0,
     peak_tolerance: float | None = None,
+    pressure_tolerance: float | None = None,
 ) -> list[dict[str, typing.Any]]:
     r"""Scene ``name`` from a user's mesh (size :math:`R/n` near the contact), refined by λ.
 
@@ -305,6 +306,7 @@ def adaptive(
 
     options = {"snap": hertz3d.projection(scene), "geometry_degree": degree, "on_step": on_step}
     options |= {"layers": layers, "peak_tolerance": peak_tolerance}
+    options |= {"pressure_tolerance": pressure_tolerance}
     try:
         result = refine_contact_zone(
             build,

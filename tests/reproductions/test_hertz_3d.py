@@ -71,6 +71,22 @@ def test_agrees_with_axisymmetric(steps):
         assert abs(value[key] - axi[key]) <= bound, (key, value[key], axi[key], bound)
 
 
+def test_pressure_indicator_refines_inside():
+    """The front resolved at R/40 (tolerance 0.9): only the curvature of λ refines, inside.
+
+    ``pressure_tolerance`` in 3D (the plane through each node's neighbours): the
+    refinement it asks for brings λ closer to Hertz's pressure, in L2 and at the peak.
+    """
+    recs = adaptive(
+        MPI.COMM_WORLD, "sphere-on-block", n=40, tolerance=0.9, max_steps=1, pressure_tolerance=0.05
+    )
+    first, last = recs
+    assert first["front_over_a"] < 0.9  # the front needs no refinement
+    assert last["unknowns"] > first["unknowns"]
+    assert last["L2_error"] < first["L2_error"]
+    assert abs(last["p0_error"]) < abs(first["p0_error"])
+
+
 @pytest.mark.parametrize("name", ["sphere-on-block", "two-spheres", "half-ball"])
 def test_curved_faces_on_their_surfaces(name):
     """Lifted to 10-node tetrahedra, every node of every curved face is on its surface.
