@@ -12,13 +12,14 @@ r"""The friction scenes of issue [4/6] in 3D, shared by ``tests/friction`` and t
 - :func:`cattaneo_mindlin`: two identical spheres (:math:`R = 1`, :math:`E = 1`,
   :math:`\nu = 0.3`; the half model :math:`y \ge 0` of :func:`paper.hertz3d.mesh`), the
   upper flat face moved down in one frictionless step (frictionless linear contact
-  does not depend on the path), then along :math:`x` in four steps with
+  does not depend on the path), then along :math:`x` in four steps (or ``steps``) with
   :math:`\mu = 0.2`: the stick radius :math:`c = a (1 - Q/(\mu P))^{1/3}` and
   Mindlin's shear :math:`q(r) = \mu p_0/a [\sqrt{a^2 - r^2} - \sqrt{c^2 - r^2}]_+`
   against :math:`\lambda_t`. Identical bodies: the normal and tangential problems
   decouple. Mindlin takes the shear along :math:`Q` everywhere; with :math:`\nu > 0` the
   slip in the annulus is not quite along it, so his solution is itself approximate
-  there (Johnson, Contact Mechanics, sec. 7.2).
+  there (Johnson, Contact Mechanics, sec. 7.2); at ``nu=0`` Cerruti's kernel is
+  isotropic and it is exact.
   :func:`cattaneo_mindlin_adaptive`: the same from a user's mesh refined by the solution
   around the contact and stick fronts.
 
