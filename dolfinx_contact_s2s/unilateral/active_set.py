@@ -35,7 +35,8 @@ def solve_step(
         The converged active set.
 
     Raises:
-        ContactConvergenceError: If the iteration does not converge.
+        ContactConvergenceError: If the iteration does not converge, or the active set
+            repeats with the residual above the tolerance.
     """
     system, comp = run.system, run.complementarity
     for _ in range(run.max_iterations):
@@ -49,6 +50,15 @@ def solve_step(
         if entered == 0 and left == 0 and residual <= run.tolerance:
             step.converged = True
             return active
+        if entered == 0 and left == 0:
+            # The same set builds the same system: another solve would repeat this one.
+            run.fail(
+                f"solve {len(step.iterations)} at load {step.load:g}: the active set repeats "
+                f"but the complementarity residual {residual:.2e} is above the tolerance "
+                f"{run.tolerance:.1e}, and solving the same system again cannot lower it: "
+                "the linear solves are not accurate enough for the tolerance (a tolerance "
+                "below round-off, an approximate factorization, a loose iterative rtol)"
+            )
         active = new
     run.fail(
         f"the active-set iteration did not converge in {run.max_iterations} solves "

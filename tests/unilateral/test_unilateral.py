@@ -207,6 +207,24 @@ def test_no_convergence_raises_with_history():
     assert "active [" in str(info.value)
 
 
+def test_repeated_set_above_the_tolerance_raises_at_once():
+    """A tolerance below round-off: the set repeats, and the solve says so at once.
+
+    The same active set builds the same system, so the iteration stops at the first
+    repeat instead of solving it again until ``max_iterations``.
+    """
+    V, tags, a, L, bcs = _weighted_lower_block()  # pressed together: a nonzero round-off
+    pair = contact_pair(contact_surface(V, tags, 20), contact_surface(V, tags, 10))
+    with UnilateralContactProblem(
+        a, L, [pair], bcs, petsc_options_prefix="uni_floor_", tolerance=1e-30
+    ) as problem:
+        with pytest.raises(ContactConvergenceError, match="the active set repeats") as info:
+            problem.solve()
+    solves = info.value.history.steps[0].iterations
+    assert len(solves) < problem.max_iterations
+    assert solves[-1].entered == solves[-1].left == 0 and solves[-1].residual > 1e-30
+
+
 def _weighted_lower_block():
     """The lower block under its own weight (load factor 1: up, onto the clamped upper)."""
     part, V = _blocks(degree=1)
