@@ -244,7 +244,11 @@ def curvature_indicator(
         ``(n,)``; the same on every process.
     """
     X, first, on, faces = _gather(fields[0], active)
-    values = np.stack([first] + [_gather(f, active)[1] for f in fields[1:]], axis=1)
+    # The other components on the same space: their values only, in global dof order.
+    owned = fields[0].function_space.dofmap.index_map.size_local
+    comm = fields[0].function_space.mesh.comm
+    rest = [np.concatenate(comm.allgather(f.x.array[:owned].real)) for f in fields[1:]]
+    values = np.stack([first, *rest], axis=1)
     ref = basix.topology(basix.CellType[fields[0].function_space.mesh.topology.cell_name()])[1]
     edges = np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
     edges = np.concatenate([edges, edges[:, ::-1]])  # directed: from node k to neighbour j

@@ -264,8 +264,9 @@ def adaptive(
 
     :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone` around the :math:`z`-axis
     until the contact front's bracket is at most ``tolerance`` times its radius and the
-    peak of λ changes by at most ``peak_tolerance`` over a step (or ``max_steps``
-    refinements): new nodes on the spheres (:func:`paper.hertz3d.projection`),
+    peak of λ changes by at most ``peak_tolerance`` over a step, and no node's λ is
+    farther than ``pressure_tolerance`` from the plane through its neighbours' (or
+    ``max_steps`` refinements): new nodes on the spheres (:func:`paper.hertz3d.projection`),
     geometry of degree ``degree``. One record per step, read from :math:`\lambda`
     (:func:`read`, without the force); the last also has the force balance.
     """
