@@ -25,9 +25,10 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s.compat import geometry_dofmap, submesh_parent_entities, tabulate
+from dolfinx_contact_s2s.edges import facet_monomials
 from dolfinx_contact_s2s.face_basis import fit_monomials
 from dolfinx_contact_s2s.kernels import KernelBackend
-from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData, facet_monomials
+from dolfinx_contact_s2s.surface import ContactSurface, SurfaceData
 
 __all__ = ["MultiplierSpace", "cell_rows", "facet_space"]
 
@@ -138,9 +139,9 @@ def facet_space(
         discontinuous=discontinuous,
     )
     Q = dolfinx.fem.functionspace(submesh, element)
-    cells = parent_to_sub[contactor.data.facets]
-
-    data = contactor.data
+    # The submesh has the mesh's nodes: match it with the surface there, not displaced.
+    data = contactor.reference
+    cells = parent_to_sub[data.facets]
     if fdim == 2:
         return MultiplierSpace(
             Q, element, cells, np.zeros(len(data), bool), _face_corners(data, submesh, cells)

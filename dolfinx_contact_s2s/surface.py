@@ -32,43 +32,10 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s import faces
 from dolfinx_contact_s2s.compat import blocked_sub_element, geometry_dofmap, tabulate
+from dolfinx_contact_s2s.edges import check_edges, facet_monomials
 from dolfinx_contact_s2s.kernels import get_backend
-from dolfinx_contact_s2s.kernels.numpy_backend import DEGENERATE_TOLERANCE
 
 __all__ = ["ContactSurface", "SurfaceData", "contact_surface", "facet_monomials", "tabulate"]
-
-
-def facet_monomials(
-    element, ref_a: npt.NDArray[np.floating], ref_b: npt.NDArray[np.floating]
-) -> npt.NDArray[np.floating]:
-    r"""Monomial coefficients in :math:`\xi` of a scalar element's basis along reference facets.
-
-    On the straight reference facet :math:`X(\xi) = X_a + \xi (X_b - X_a)` a degree-:math:`k`
-    Lagrange basis function is a polynomial of degree :math:`k` in :math:`\xi`: Basix
-    tabulates it at :math:`k + 1` equispaced points, a Vandermonde solve gives the
-    coefficients (the input of the backends' ``facet_basis`` and ``facet_coefficients``).
-
-    Args:
-        element: Scalar Basix-UFL element.
-        ref_a: First vertex of each reference facet, ``(L, tdim)``.
-        ref_b: Second vertex of each reference facet, ``(L, tdim)``.
-
-    Returns:
-        ``table[l, m, k]``, shape ``(L, degree + 1, num_dofs)``.
-    """
-    p = element.degree
-    xi = np.linspace(0.0, 1.0, p + 1)
-    vandermonde = np.vander(xi, p + 1, increasing=True)
-    out = []
-    for a, b in zip(ref_a, ref_b, strict=True):
-        tab = tabulate(element, 0, a[None, :] + xi[:, None] * (b - a)[None, :])[0]
-        # A Lagrange function at equispaced facet points is 0 or of order 0.1 (degree <= 2);
-        # Basix's round-off (1e-17) on the functions of the dofs off the facet would couple
-        # those dofs: times the far side of a soft body (displacements 1e3 times the
-        # contact line's) that broke the patch test by 3e-9 at a contrast of 3e4.
-        tab[np.abs(tab) < 1e-12] = 0.0
-        out.append(np.linalg.solve(vandermonde, tab))
-    return np.ascontiguousarray(np.stack(out))
 
 
 @dataclass(frozen=True)
@@ -212,6 +179,12 @@ class ContactSurface:
         self.data = SurfaceData(
             coords, local_facet, dofs.astype(np.int64), facets, coefficients, orientation
         )
+        #: The geometry at the mesh's nodes :math:`X` (:attr:`data` until
+        #: :meth:`set_displacement` places the surface elsewhere).
+        self.reference = self.data
+        # V's scalar basis at the coordinate element's nodes: the displacement there.
+        self._at_nodes = tabulate(scalar, 0, self.cmap.basix_element.points)[0]
+        self._blocks = blocks
         # The geometry dofs of the facets' cells, to notice a mesh moved after this point.
         self._x_nodes = np.unique(x_dofs)
         self._x_start = self.V.mesh.geometry.x[self._x_nodes, :gdim].copy()
@@ -248,7 +221,7 @@ class ContactSurface:
         n = self.backend.cell_normals(tab[1:3], coords, self._ref_normals[local_facet])
         _, dx = self.backend.evaluate(coefficients, rows, half)
         turn = n[:, 0] * dx[:, 1] - n[:, 1] * dx[:, 0]
-        _check_geometry(self.comm, self.tag, coords, coefficients, n)
+        check_edges(self.comm, self.tag, coords, coefficients, n)
         return coefficients, np.where(turn < 0.0, -1.0, 1.0)
 
     def _face_geometry(
@@ -262,6 +235,64 @@ class ContactSurface:
         orientation, oriented = faces.face_orientation(self.cmap, coords, local_facet, nodes)
         faces.check_faces(self.comm, self.tag, coords, nodes, oriented)
         return nodes, orientation
+
+    def set_displacement(self, u: dolfinx.fem.Function | None) -> None:
+        r"""Place the surface at :math:`x = X + u`, the current configuration (collective).
+
+        Finite deformation couples the bodies where they are now: the facet geometry,
+        normals and search of every later coupling (:meth:`ContactPair.coupling_blocks`)
+        and gap are those of :math:`X + u`, while the mesh, the displacement space and the
+        pair's multiplier space stay on :math:`X` (the multiplier lives on the facets,
+        whatever their place). ``u`` is read now: call again after it changes.
+
+        Args:
+            u: A displacement in :attr:`V` (its ghosts are updated here); ``None``
+                returns the surface to :math:`X`. :math:`u` is interpolated exactly at
+                the coordinate element's nodes, so the current facets are those of the
+                deformed cells when :attr:`V`'s degree is at most the mesh's geometry
+                degree.
+
+        Raises:
+            ValueError: On every rank: ``u`` is not a function in :attr:`V`; :attr:`V`'s
+                degree is above the geometry's (the current facets would be curved, the
+                mesh's cannot be: give the mesh geometry of the displacement's degree);
+                NaN or infinite values; a cell at the surface inverted by ``u`` (named).
+        """
+        if u is None:
+            self.data = self.reference
+            return
+        if getattr(u, "function_space", None) is None or not (
+            u.function_space == self.V or u.function_space.dofmap is self.V.dofmap
+        ):
+            raise ValueError("the displacement must be a dolfinx.fem.Function in the surface's V")
+        if self.element.degree > self.cmap.degree:
+            raise ValueError(
+                f"a displacement of degree {self.element.degree} curves facets that the "
+                f"mesh's geometry of degree {self.cmap.degree} cannot follow: give the mesh "
+                "geometry of the displacement's degree (e.g. Gmsh's setOrder)"
+            )
+        u.x.scatter_forward()
+        ref = self.reference
+        gdim = ref.coords.shape[2]
+        values = u.x.array.reshape(-1, self.V.dofmap.index_map_bs)[self._blocks]
+        coords = ref.coords + np.einsum("xv,cvg->cxg", self._at_nodes, values[:, :, :gdim])
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            if self.facet_dim == 2:
+                coefficients, orientation = self._face_geometry(coords, ref.local_facet)
+            else:
+                coefficients, orientation = self._edge_geometry(coords, ref.local_facet)
+        # A facet turned against its cell's outward normal: the cell is inverted.
+        flipped = np.flatnonzero(orientation != ref.orientation)
+        cells = self.comm.allgather(self.cells[flipped][:3].tolist())
+        if any(cells):
+            raise ValueError(
+                f"the displacement inverts cells at contact surface {self.tag} (det F <= 0): "
+                + "; ".join(f"process {r}: local cells {c}" for r, c in enumerate(cells) if c)
+                + "; take a smaller load step"
+            )
+        self.data = SurfaceData(
+            coords, ref.local_facet, ref.dofs, ref.facets, coefficients, orientation
+        )
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).
@@ -512,36 +543,6 @@ def _cpp(obj):
 #: Regions of :meth:`ContactSurface.gather_near` kept per surface (one per pair that
 #: shares the surface as a target, in the scenes of this package).
 NEAR_REGIONS = 4
-
-
-def _check_geometry(
-    comm: MPI.Comm,
-    tag: int,
-    coords: npt.NDArray[np.floating],
-    coefficients: npt.NDArray[np.floating],
-    normals: npt.NDArray[np.floating],
-) -> None:
-    """Raise on every rank for NaN or infinite nodes, or zero-length facets (collective).
-
-    One reduction of two counts; the location of a degenerate facet is gathered only
-    when there is one, so that every rank raises the same message.
-    """
-    finite = np.all(np.isfinite(coords), axis=(1, 2))
-    extent = np.max(np.abs(coords - coords[:, :1, :]), axis=(1, 2), initial=0.0)
-    chord = np.linalg.norm(np.sum(coefficients[:, 1:, :], axis=1), axis=1)
-    flat = finite & (
-        ~(chord > DEGENERATE_TOLERANCE * extent) | ~np.all(np.isfinite(normals), axis=1)
-    )
-    faces.raise_degenerate(
-        comm,
-        tag,
-        finite,
-        flat,
-        coefficients[:, 0, :],
-        "facet",
-        "zero length (two nodes coincide)",
-        "remove the duplicate nodes from the mesh",
-    )
 
 
 def contact_surface(

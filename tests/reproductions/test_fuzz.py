@@ -26,8 +26,8 @@ from hypothesis import HealthCheck, Phase, settings
 from hypothesis import strategies as st
 
 from dolfinx_contact_s2s.analysis.roundoff import round_off_bound
+from dolfinx_contact_s2s.edges import facet_monomials
 from dolfinx_contact_s2s.la import gather_dense
-from dolfinx_contact_s2s.surface import facet_monomials
 from paper.fuzz import (
     BOUND_CEILING,
     Block,
