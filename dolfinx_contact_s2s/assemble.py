@@ -279,8 +279,38 @@ def assemble_coupling(
             addv=PETSc.InsertMode.ADD_VALUES,
         )
     G.assemble()
+    if not tangential:
+        _linearize(pair, blocks, G)
     uncovered = _uncovered(pair, [b.rows for b in groups], [b.coverage for b in groups])
     return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks)
+
+
+def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:
+    r"""``G -= B_V u_V`` for the spaces whose surfaces are placed at :math:`X + u_V`.
+
+    The gap of the total displacement :math:`\mathbf U` linearized at the placement
+    (:meth:`~dolfinx_contact_s2s.surface.ContactSurface.set_displacement`).
+    """
+    comm = pair.contactor.comm
+    surfaces = [pair.contactor] + [t for t in pair.targets if not t.rigid]
+    for V, B in blocks:
+        placed = [s.placement for s in surfaces if s.V is V]
+        some = any(p is not None for p in placed)
+        same = all(p is not None and np.array_equal(p, placed[0]) for p in placed)
+        if not comm.allreduce(some, op=MPI.LOR):
+            continue
+        if not comm.allreduce(same, op=MPI.LAND):
+            raise ValueError(
+                "the surfaces of a pair on one displacement space are placed at different "
+                "displacements: call set_displacement(u) on each with the same u"
+            )
+        n = B.getLocalSize()[1]
+        u = PETSc.Vec().createWithArray(np.array(placed[0][:n]), comm=comm)
+        shift = G.duplicate()
+        B.mult(u, shift)
+        G.axpy(-1.0, shift)
+        for v in (u, shift):
+            v.destroy()
 
 
 def _lumped(pair: ContactPair, M: PETSc.Mat) -> PETSc.Mat:

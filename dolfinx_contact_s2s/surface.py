@@ -185,6 +185,8 @@ class ContactSurface:
         # V's scalar basis at the coordinate element's nodes: the displacement there.
         self._at_nodes = tabulate(scalar, 0, self.cmap.basix_element.points)[0]
         self._blocks = blocks
+        #: The values of the displacement :attr:`data` is placed at (None: at :math:`X`).
+        self.placement: npt.NDArray[np.floating] | None = None
         # The geometry dofs of the facets' cells, to notice a mesh moved after this point.
         self._x_nodes = np.unique(x_dofs)
         self._x_start = self.V.mesh.geometry.x[self._x_nodes, :gdim].copy()
@@ -245,6 +247,13 @@ class ContactSurface:
         pair's multiplier space stay on :math:`X` (the multiplier lives on the facets,
         whatever their place). ``u`` is read now: call again after it changes.
 
+        The coupling is then the linearization at :math:`u` in the total displacement
+        :math:`\mathbf U`: :func:`~dolfinx_contact_s2s.assemble.assemble_coupling` gives
+        the gap :math:`\mathbf G(u) - \mathbf B(u)\, \mathbf u`, so that the gap of
+        :math:`\mathbf U` is :math:`\mathbf G(u) + \mathbf B(u) (\mathbf U - \mathbf
+        u)` (Eq. 17 at the current configuration). Every surface of a pair on one space
+        must be placed at the same :math:`u`.
+
         Args:
             u: A displacement in :attr:`V` (its ghosts are updated here); ``None``
                 returns the surface to :math:`X`. :math:`u` is interpolated exactly at
@@ -259,7 +268,7 @@ class ContactSurface:
                 NaN or infinite values; a cell at the surface inverted by ``u`` (named).
         """
         if u is None:
-            self.data = self.reference
+            self.data, self.placement = self.reference, None
             return
         if getattr(u, "function_space", None) is None or not (
             u.function_space == self.V or u.function_space.dofmap is self.V.dofmap
@@ -293,6 +302,7 @@ class ContactSurface:
         self.data = SurfaceData(
             coords, ref.local_facet, ref.dofs, ref.facets, coefficients, orientation
         )
+        self.placement = u.x.array.copy()
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).

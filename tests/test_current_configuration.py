@@ -33,6 +33,10 @@ def _coupling(pair) -> tuple[list[np.ndarray], np.ndarray]:
     return blocks, gap
 
 
+def _owned(V) -> int:
+    return V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+
+
 def _upper_cells(mesh) -> np.ndarray:
     num = mesh.topology.index_map(2).size_local + mesh.topology.index_map(2).num_ghosts
     mid = dolfinx.mesh.compute_midpoints(mesh, 2, np.arange(num, dtype=np.int32))
@@ -112,7 +116,10 @@ def test_displaced_surfaces_couple_as_the_moved_mesh(degree, method):
     (displaced, gap), (expected, expected_gap) = couplings
     for B, R in zip(displaced, expected, strict=True):
         assert np.max(np.abs(B - R)) <= 1e-12 * np.max(np.abs(R))
-    assert np.max(np.abs(gap - expected_gap)) <= 1e-12 * np.max(np.abs(expected_gap))
+    # The gap is linearized at u in the total displacement: G(u) - B(u) u.
+    values = np.concatenate(comm.allgather(u.x.array[: _owned(V)]))
+    linear = gap + displaced[0] @ values
+    assert np.max(np.abs(linear - expected_gap)) <= 1e-12 * np.max(np.abs(expected_gap))
     # Not the reference coupling: the motion changed it.
     assert np.max(np.abs(reference[0][0] - expected[0])) > 1e-3 * np.max(np.abs(expected[0]))
 
@@ -254,8 +261,8 @@ def test_sliding_patch_test(degree, elements):
     Frictionless tied contact (normal only): each block in uniaxial stress about its own
     symmetry side, so the blocks' lateral expansions slide against each other. The lower
     top the upper block leaves open carries P as a load (its edges on lower nodes, so the
-    load is exact). Only the upper surface moves (``set_displacement``): the stiffness of
-    a translated body is the same.
+    load is exact). The upper surface is placed at the slide (``set_displacement``) and
+    the solve is for the total displacement (the slide is a rigid motion: no stress).
     """
     import ufl
 
@@ -272,10 +279,11 @@ def test_sliding_patch_test(degree, elements):
         n = ufl.FacetNormal(mesh)
         a.append(form)
         L.append(ufl.inner(-P * n, v) * ds(EXPOSED if lower else TOP_TAG))
-        fixed = [(0, LEFT_TAG)] + ([(1, BOTTOM_TAG)] if lower else [])
-        for component, tag in fixed:
+        # The upper block's symmetry side moved with it: U is the total displacement.
+        fixed = [(0, LEFT_TAG, 0.0 if lower else shift)] + ([(1, BOTTOM_TAG, 0.0)] if lower else [])
+        for component, tag, value in fixed:
             dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), 1, tags.find(tag))
-            bcs.append(dolfinx.fem.dirichletbc(0.0, dofs, V.sub(component)))
+            bcs.append(dolfinx.fem.dirichletbc(value, dofs, V.sub(component)))
         spaces.append(V)
         tags_of.append(tags)
     target = contact_surface(spaces[0], tags_of[0], TOP_TAG)
@@ -287,7 +295,17 @@ def test_sliding_patch_test(degree, elements):
         a, L, [contact_pair(contactor, target)], bcs, petsc_options_prefix="sliding_"
     )
     with problem:
-        _, (lam,) = problem.solve()
+        (_, u), (lam,) = problem.solve()
         owned = lam.function_space.dofmap.index_map.size_local
         error = np.max(np.abs(lam.x.array[:owned] - P), initial=0.0)
+        # The exact upper block: slid, then in uniaxial stress (plane strain).
+        strain = -P / MATERIAL_E * (1 - MATERIAL_NU**2)
+        lateral = P / MATERIAL_E * MATERIAL_NU * (1 + MATERIAL_NU)
+        X = spaces[1].tabulate_dof_coordinates()[:, :2]
+        exact = np.stack([shift + lateral * X[:, 0], strain * (X[:, 1] - 0.5)], axis=1)
+        n = _owned(spaces[1]) // 2
+        # The upper block rests on the lower, compressed by the same strain.
+        exact[:, 1] += strain * 0.5
+        u_error = np.max(np.abs(u.x.array[: 2 * n].reshape(-1, 2) - exact[:n]), initial=0.0)
     assert comm.allreduce(float(error), op=MPI.MAX) <= 1e-10 * P
+    assert comm.allreduce(float(u_error), op=MPI.MAX) <= 1e-10
