@@ -30,6 +30,7 @@ __all__ = [
     "UNCOVERED_TOLERANCE",
     "CouplingOperator",
     "assemble_coupling",
+    "coo_matrix",
     "multiplier_mass",
 ]
 
@@ -65,17 +66,19 @@ def _to_owners(
     return out[0], out[1:]
 
 
-def _coo_matrix(
+def coo_matrix(
     comm: MPI.Comm,
     parts: Sequence[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.floating]]],
     row_map: dolfinx.common.IndexMap,
     col_map: dolfinx.common.IndexMap,
     col_bs: int,
     backend: KernelBackend = numpy_backend,
+    row_bs: int = 1,
 ) -> PETSc.Mat:
-    """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)``.
+    """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)`` (collective).
 
-    Each part holds blocks ``values[s, i, j]`` at ``(rows[s, i], cols[s, j])``.
+    Each part holds blocks ``values[s, i, j]`` at ``(rows[s, i], cols[s, j])``, global
+    (unrolled) indices of the maps with block sizes ``row_bs`` and ``col_bs``.
     Entries may belong to rows owned by other processes: they are sent to their
     owners, duplicates are summed (the kernel backend's ``coo_to_csr``), and the
     matrix is created from its exact CSR structure.
@@ -92,14 +95,15 @@ def _coo_matrix(
 
     i = joined(flat_i).astype(np.int64, copy=False)
     j = joined(flat_j).astype(np.int64, copy=False)
-    row_starts = np.array(comm.allgather(row_map.local_range[0]) + [row_map.size_global])
+    starts = comm.allgather(row_map.local_range[0] * row_bs)
+    row_starts = np.array(starts + [row_map.size_global * row_bs])
     i, (j, v) = _to_owners(comm, i, [j, joined(flat_v)], row_starts)
-    start = row_map.local_range[0]
+    start, n_rows = row_map.local_range[0] * row_bs, row_map.size_local * row_bs
     n_cols = col_map.size_global * col_bs
-    indptr, indices, data = backend.coo_to_csr(row_map.size_local, i - start if start else i, j, v)
+    indptr, indices, data = backend.coo_to_csr(n_rows, i - start if start else i, j, v)
     A = PETSc.Mat().createAIJ(
         [
-            [row_map.size_local, row_map.size_global],
+            [n_rows, row_map.size_global * row_bs],
             [col_map.size_local * col_bs, n_cols],
         ],
         csr=(
@@ -267,7 +271,7 @@ def assemble_coupling(
             add(b.target.V, part, spaces, parts)
 
     def matrix(V: dolfinx.fem.FunctionSpace, p: list) -> PETSc.Mat:
-        return _coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend)
+        return coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend)
 
     blocks = [(V, matrix(V, p)) for V, p in zip(spaces, parts, strict=True)]
     rigid_blocks = [(t, matrix(t.V, p)) for t, p in zip(rigid, rigid_parts, strict=True)]

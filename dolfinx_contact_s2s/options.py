@@ -16,11 +16,22 @@ Precedence, highest first: ``petsc_options``; the options database (the command 
 
 from __future__ import annotations
 
+import logging
 import typing
+from collections.abc import Callable
 
 from petsc4py import PETSc
 
-__all__ = ["MUMPS_WORKSPACE_ERRORS", "PETScOptions", "mumps_factor", "solver_failure"]
+__all__ = [
+    "MUMPS_WORKSPACE_ERRORS",
+    "PETScOptions",
+    "mumps_factor",
+    "solve_retrying",
+    "solver_failure",
+]
+
+# Under the name of the problem module, where these messages were always logged.
+logger = logging.getLogger("dolfinx_contact_s2s.problem")
 
 
 class PETScOptions:
@@ -146,3 +157,40 @@ def solver_failure(ksp: PETSc.KSP, prefix: str) -> str:
     if info == -10:
         return f"{text}: MUMPS found the matrix numerically singular (INFOG(1) = -10)"
     return f"{text}: MUMPS INFOG(1) = {info}, INFOG(2) = {F.getMumpsInfog(2)}"
+
+
+def solve_retrying(
+    ksp: PETSc.KSP,
+    configure: Callable[[], None],
+    b: PETSc.Vec,
+    x: PETSc.Vec,
+    options: PETScOptions,
+    retries: int,
+) -> None:
+    """``ksp.solve(b, x)``; a MUMPS workspace error is met by doubling ICNTL(14).
+
+    Up to ``retries`` times, raising ICNTL(14) in ``options`` (the solver's, or another
+    KSP's under the same options: a penalty solve).
+
+    Args:
+        ksp: The solver, configured.
+        configure: Gives the reset ``ksp`` its operator and options again.
+        b: Right-hand side.
+        x: Solution.
+        options: The options ``ksp`` reads.
+        retries: Largest number of retries.
+    """
+    ksp.solve(b, x)
+    for _ in range(retries):
+        F = mumps_factor(ksp)
+        if ksp.getConvergedReason() >= 0 or F is None:
+            break
+        if F.getMumpsInfog(1) not in MUMPS_WORKSPACE_ERRORS:
+            break
+        icntl = max(2 * F.getMumpsIcntl(14), F.getMumpsIcntl(14) + 50)
+        logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
+        options.set("mat_mumps_icntl_14", icntl)
+        # A new factor reads the raised ICNTL(14) from the database.
+        ksp.reset()
+        configure()
+        ksp.solve(b, x)

@@ -182,8 +182,8 @@ class ContactSurface:
         #: The geometry at the mesh's nodes :math:`X` (:attr:`data` until
         #: :meth:`set_displacement` places the surface elsewhere).
         self.reference = self.data
-        # V's scalar basis at the coordinate element's nodes: the displacement there.
-        self._at_nodes = tabulate(scalar, 0, self.cmap.basix_element.points)[0]
+        #: V's scalar basis at the coordinate element's nodes (rows): u there.
+        self.node_weights = tabulate(scalar, 0, self.cmap.basix_element.points)[0]
         self._blocks = blocks
         #: The values of the displacement :attr:`data` is placed at (None: at :math:`X`).
         self.placement: npt.NDArray[np.floating] | None = None
@@ -241,25 +241,17 @@ class ContactSurface:
     def set_displacement(self, u: dolfinx.fem.Function | None) -> None:
         r"""Place the surface at :math:`x = X + u`, the current configuration (collective).
 
-        Finite deformation couples the bodies where they are now: the facet geometry,
-        normals and search of every later coupling (:meth:`ContactPair.coupling_blocks`)
-        and gap are those of :math:`X + u`, while the mesh, the displacement space and the
-        pair's multiplier space stay on :math:`X` (the multiplier lives on the facets,
-        whatever their place). ``u`` is read now: call again after it changes.
-
-        The coupling is then the linearization at :math:`u` in the total displacement
-        :math:`\mathbf U`: :func:`~dolfinx_contact_s2s.assemble.assemble_coupling` gives
-        the gap :math:`\mathbf G(u) - \mathbf B(u)\, \mathbf u`, so that the gap of
+        The facet geometry, normals, search and gap of every later coupling are those of
+        :math:`X + u`; the mesh, :attr:`V` and the multiplier space stay on :math:`X`.
+        ``u`` is read now. The coupling is then linearized at :math:`u` in the total
+        displacement: :func:`~dolfinx_contact_s2s.assemble.assemble_coupling` gives the
+        gap :math:`\mathbf G(u) - \mathbf B(u)\, \mathbf u`, so that the gap of
         :math:`\mathbf U` is :math:`\mathbf G(u) + \mathbf B(u) (\mathbf U - \mathbf
-        u)` (Eq. 17 at the current configuration). Every surface of a pair on one space
-        must be placed at the same :math:`u`.
+        u)`. Every surface of a pair on one space must be placed at the same :math:`u`.
 
         Args:
-            u: A displacement in :attr:`V` (its ghosts are updated here); ``None``
-                returns the surface to :math:`X`. :math:`u` is interpolated exactly at
-                the coordinate element's nodes, so the current facets are those of the
-                deformed cells when :attr:`V`'s degree is at most the mesh's geometry
-                degree.
+            u: A displacement in :attr:`V` (ghosts updated here), interpolated exactly at
+                the geometry's nodes; ``None`` returns the surface to :math:`X`.
 
         Raises:
             ValueError: On every rank: ``u`` is not a function in :attr:`V`; :attr:`V`'s
@@ -282,16 +274,10 @@ class ContactSurface:
             )
         u.x.scatter_forward()
         ref = self.reference
-        gdim = ref.coords.shape[2]
         values = u.x.array.reshape(-1, self.V.dofmap.index_map_bs)[self._blocks]
-        coords = ref.coords + np.einsum("xv,cvg->cxg", self._at_nodes, values[:, :, :gdim])
-        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-            if self.facet_dim == 2:
-                coefficients, orientation = self._face_geometry(coords, ref.local_facet)
-            else:
-                coefficients, orientation = self._edge_geometry(coords, ref.local_facet)
+        data = self.geometry(ref.coords + self.nodal(values))
         # A facet turned against its cell's outward normal: the cell is inverted.
-        flipped = np.flatnonzero(orientation != ref.orientation)
+        flipped = np.flatnonzero(data.orientation != ref.orientation)
         cells = self.comm.allgather(self.cells[flipped][:3].tolist())
         if any(cells):
             raise ValueError(
@@ -299,10 +285,23 @@ class ContactSurface:
                 + "; ".join(f"process {r}: local cells {c}" for r, c in enumerate(cells) if c)
                 + "; take a smaller load step"
             )
-        self.data = SurfaceData(
-            coords, ref.local_facet, ref.dofs, ref.facets, coefficients, orientation
-        )
+        self.data = data
         self.placement = u.x.array.copy()
+
+    def nodal(self, values: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
+        """Displacements ``(cells, V nodes, bs)`` of the facets' cells at their geometry nodes."""
+        gdim = self.reference.coords.shape[2]
+        return np.einsum("xv,cvg->cxg", self.node_weights, values[:, :, :gdim])
+
+    def geometry(self, coords: npt.NDArray[np.floating]) -> SurfaceData:
+        """The surface's facets with their cells' nodes at ``coords`` (collective: checks)."""
+        ref = self.reference
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            if self.facet_dim == 2:
+                coefficients, orientation = self._face_geometry(coords, ref.local_facet)
+            else:
+                coefficients, orientation = self._edge_geometry(coords, ref.local_facet)
+        return SurfaceData(coords, ref.local_facet, ref.dofs, ref.facets, coefficients, orientation)
 
     def moved(self) -> bool:
         """Whether the mesh's nodes on this surface changed since its creation (collective).

@@ -5,11 +5,8 @@ r"""The saddle-point system of Eq. (18) as an object, shared by the contact prob
 :class:`ContactSystem` holds the spaces and forms, the stiffness :math:`\mathbf K` and
 loads :math:`\mathbf F`, the coupling operators
 (:func:`~dolfinx_contact_s2s.assemble.assemble_coupling`), the Dirichlet masks and
-values, the assembled matrix and vectors built for a load factor and a set of released
-(inactive) multipliers, the KSP with its options
-(:class:`~dolfinx_contact_s2s.options.PETScOptions`), the checked solve and the timings.
-The problems (:class:`~dolfinx_contact_s2s.problem.LinearContactProblem`,
-:class:`~dolfinx_contact_s2s.unilateral.UnilateralContactProblem`) hold one by
+values, the saddle point built for a load factor and a set of released multipliers, the
+KSP and its options, the checked solve and the timings. The problems hold one by
 composition and use its public methods only.
 
 This module needs petsc4py and must be imported explicitly.
@@ -37,12 +34,7 @@ from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
 from dolfinx_contact_s2s.checks.inputs import check_solver_types, check_stiffness
 from dolfinx_contact_s2s.compat import DOLFINX_VERSION
 from dolfinx_contact_s2s.la import add_scaled, plain_vector
-from dolfinx_contact_s2s.options import (
-    MUMPS_WORKSPACE_ERRORS,
-    PETScOptions,
-    mumps_factor,
-    solver_failure,
-)
+from dolfinx_contact_s2s.options import PETScOptions, solve_retrying, solver_failure
 from dolfinx_contact_s2s.pair import ContactPair
 
 __all__ = ["DEFAULT_OPTIONS", "TIMINGS", "ContactSystem", "add_scaled"]
@@ -176,6 +168,9 @@ class ContactSystem:
         self.b: PETSc.Vec | None = None
         self.x: PETSc.Vec | None = None
         self.load = 1.0
+        # Finite deformation's Newton terms (set_linearization).
+        self._coupling: Callable[[ContactPair], CouplingOperator] = assemble_coupling
+        self._extra: Callable[[list, list, list], None] | None = None
         self._plain = True  # no extra fields (build)
         self.fields: dict[str, PETSc.IS] = {}
         self._support: checks.SupportGram | None = None
@@ -208,6 +203,18 @@ class ContactSystem:
             yield
         finally:
             self.timings[stage] += time.perf_counter() - begin
+
+    def set_linearization(
+        self,
+        coupling: Callable[[ContactPair], CouplingOperator] | None = None,
+        extra: Callable[[list, list, list], None] | None = None,
+    ) -> None:
+        """The coupling every assembly makes and the terms every build adds (Newton's).
+
+        ``None``: :func:`~dolfinx_contact_s2s.assemble.assemble_coupling`, nothing.
+        """
+        self._coupling = assemble_coupling if coupling is None else coupling
+        self._extra = extra
 
     def set_solver_setup(self, setup: Callable[[ContactSystem], None] | None) -> None:
         """Call ``setup(self)`` each time the solver is configured for a new system.
@@ -374,7 +381,7 @@ class ContactSystem:
             # Before any factorization: MUMPS would report a zero body as lost workspace.
             check_stiffness(self.spaces, self._K, self._masks, self._labels)
         with self.timed("contact"):
-            self.operators = [assemble_coupling(pair) for pair in self.pairs]
+            self.operators = [self._coupling(pair) for pair in self.pairs]
         for j, op in enumerate(self.operators):
             if op.uncovered.size:
                 logger.info(
@@ -412,8 +419,9 @@ class ContactSystem:
             load: Factor on :math:`\mathbf F` and the Dirichlet values.
             extra: Fields after the multipliers (friction): ``extra(blocks, rhs, names)``
                 appends its rows and columns to the block lists (its matrices stay its
-                own) before the system is made; the system is then solved as unsymmetric.
+                own) before the system is made, then solved as unsymmetric (None: the default).
         """
+        extra = self._extra if extra is None else extra
         with self.timed("system"):
             self.load = float(load)  # the load factor of the current saddle point
             self._plain = extra is None
@@ -556,31 +564,8 @@ class ContactSystem:
     def solve_retrying(
         self, ksp: PETSc.KSP, configure: Callable[[], None], b: PETSc.Vec, x: PETSc.Vec
     ) -> None:
-        """``ksp.solve(b, x)``; a MUMPS workspace error is met by doubling ICNTL(14).
-
-        Up to :attr:`workspace_retries` times, for this system's solver or another KSP
-        under the same options (a penalty solve).
-
-        Args:
-            ksp: The solver, configured.
-            configure: Gives the reset ``ksp`` its operator and options again.
-            b: Right-hand side.
-            x: Solution.
-        """
-        ksp.solve(b, x)
-        for _ in range(self.workspace_retries):
-            F = mumps_factor(ksp)
-            if ksp.getConvergedReason() >= 0 or F is None:
-                break
-            if F.getMumpsInfog(1) not in MUMPS_WORKSPACE_ERRORS:
-                break
-            icntl = max(2 * F.getMumpsIcntl(14), F.getMumpsIcntl(14) + 50)
-            logger.info("MUMPS workspace too small: retrying with ICNTL(14) = %d", icntl)
-            self.options.set("mat_mumps_icntl_14", icntl)
-            # A new factor reads the raised ICNTL(14) from the database.
-            ksp.reset()
-            configure()
-            ksp.solve(b, x)
+        """:func:`~dolfinx_contact_s2s.options.solve_retrying` under this system's options."""
+        solve_retrying(ksp, configure, b, x, self.options, self.workspace_retries)
 
     def scatter(self) -> None:
         """Copy the solution :attr:`x` into :attr:`u` and :attr:`multipliers`."""

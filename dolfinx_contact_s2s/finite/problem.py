@@ -21,19 +21,23 @@ is the problem of :class:`~dolfinx_contact_s2s.problem.LinearContactProblem` (ti
 starting from the previous iteration's set) in the total displacement :math:`\mathbf U`,
 with the user's Dirichlet conditions as they are, and every check of those solves.
 
-Linearized exactly: the bodies (:math:`\mathbf J = \partial \mathbf R / \partial \mathbf
-u` from UFL) and the gap's change along the current normals (:math:`\mathbf B_k`). Left
-out: the change of :math:`\mathbf B` itself (of the normals, the projections and the
-sub-segment ends) with :math:`\mathbf u`. Where those vanish (flat surfaces, where a
-motion along the surface changes no normal gap) Newton converges quadratically;
-elsewhere linearly, at a rate that falls with the step: :attr:`history` records the
-residual of every iteration and its measured order.
+With ``linearization="full"`` (the default) Newton's matrix also holds the change of the
+contact terms with :math:`\mathbf u` (the normals, the projections and the sub-segment
+ends): :math:`\mathbf J - \mathbf H_k` in the displacement rows, :math:`\mathbf H_k =
+\partial (\mathbf B^T \Lambda_k) / \partial \mathbf u`, and the gap's derivative
+:math:`\mathbf D_k` in the multiplier rows
+(:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`: central differences of each
+group's integrals, about :math:`10^{-10}` relative); Newton then converges
+quadratically. The first iteration of a step, which moves to its new loads, leaves them
+out. ``"frozen"``: every iteration without them (linear convergence where surfaces slide).
+:attr:`step` records every iteration's residuals and the measured order.
 
 This module needs petsc4py and must be imported explicitly.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 import typing
@@ -49,11 +53,14 @@ import numpy as np
 import ufl
 
 from dolfinx_contact_s2s.assemble import assemble_coupling
+from dolfinx_contact_s2s.finite.tangent import ContactTangent
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import LinearContactProblem
-from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from dolfinx_contact_s2s.unilateral import ContactConvergenceError, UnilateralContactProblem
 
 __all__ = ["NewtonIteration", "NonlinearContactProblem", "NonlinearConvergenceError"]
+
+logger = logging.getLogger("dolfinx_contact_s2s.finite")
 
 
 @dataclass
@@ -65,20 +72,26 @@ class NewtonIteration:
             at the iteration's start, relative to the force scale (:attr:`scale`).
         scale: The force scale: the largest of :math:`|\mathbf R|` on all dofs
             (reactions included) and :math:`|\mathbf B^T \Lambda|`.
+        gap: The largest weighted gap of an active multiplier relative to the
+            contactor's size, at the iteration's start (:meth:`residual`).
         increment: :math:`\|\mathbf U - \mathbf u_k\|_\infty` of its solve.
         active: Active multipliers after its solve (all pairs, all processes).
         changed: Multipliers whose active state its solve changed.
         solves: Linear solves of its contact iteration.
         seconds: Its wall time (process 0).
+        frozen: Whether its matrix left out the coupling's change (the first iteration
+            of a step; one whose contact set cycled with it).
     """
 
     residual: float
     scale: float
+    gap: float
     increment: float = math.nan
     active: int = 0
     changed: int = 0
     solves: int = 0
     seconds: float = 0.0
+    frozen: bool = False
 
 
 @dataclass
@@ -101,7 +114,7 @@ class NewtonStep:
     def describe(self) -> str:
         """One line per iteration: residual, increment, active set and solves."""
         return "\n".join(
-            f"  {k}: residual {it.residual:.3e}, increment {it.increment:.3e}, "
+            f"  {k}: residual {it.residual:.3e}, gap {it.gap:.1e}, increment {it.increment:.1e}, "
             f"active {it.active} (changed {it.changed}), {it.solves} solves"
             for k, it in enumerate(self.iterations)
         )
@@ -114,6 +127,15 @@ class NonlinearConvergenceError(RuntimeError):
         """Keep the step's history."""
         super().__init__(message + "\n" + step.describe())
         self.step = step
+
+
+def _size(surface: typing.Any, comm: MPI.Comm) -> float:
+    """The largest extent of a surface's cells' nodes over all processes."""
+    x = surface.reference.coords.reshape(-1, surface.reference.coords.shape[2])
+    low, high = x.min(axis=0, initial=np.inf), x.max(axis=0, initial=-np.inf)
+    comm.Allreduce(MPI.IN_PLACE, low, op=MPI.MIN)
+    comm.Allreduce(MPI.IN_PLACE, high, op=MPI.MAX)
+    return float(np.max(high - low))
 
 
 def _as_list(x: typing.Any) -> list:
@@ -145,6 +167,7 @@ class NonlinearContactProblem:
         *,
         J: ufl.Form | Sequence[ufl.Form] | None = None,
         contact: str = "unilateral",
+        linearization: str = "full",
         max_iterations: int = 25,
         rtol: float = 1e-10,
         atol: float = 0.0,
@@ -161,9 +184,15 @@ class NonlinearContactProblem:
             bcs: Dirichlet conditions on the total displacement.
             J: Jacobian of each ``F_i``; default ``ufl.derivative(F_i, u_i)``.
             contact: ``"unilateral"`` (Eq. 1, the active-set loop) or ``"tied"``.
+            linearization: ``"full"``: the change of the contact force with
+                :math:`\mathbf u` in Newton's matrix
+                (:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`,
+                segment-to-segment pairs); ``"frozen"``: the coupling of each iteration
+                without its change (linear convergence where surfaces slide).
             max_iterations: Largest number of Newton iterations of a solve.
             rtol: Converged when the residual relative to the force scale is at most
-                ``rtol`` (or at most ``atol`` absolute) and the active set did not change.
+                ``rtol`` (or at most ``atol`` absolute), the gap residual relative to the
+                contactor's size at most ``rtol``, and the active set did not change.
             atol: Absolute residual tolerance.
             monitor: Called with every :class:`NewtonIteration` once it is recorded.
             options: Keyword arguments of the linear problem
@@ -178,6 +207,13 @@ class NonlinearContactProblem:
         """
         if contact not in ("unilateral", "tied"):
             raise ValueError(f"contact must be 'unilateral' or 'tied', not {contact!r}")
+        if linearization not in ("full", "frozen"):
+            raise ValueError(f"linearization must be 'full' or 'frozen', not {linearization!r}")
+        if linearization == "full" and any(p.method != "segment-to-segment" for p in pairs):
+            raise ValueError(
+                "linearization='full' needs segment-to-segment pairs; use "
+                "linearization='frozen' with other methods"
+            )
         if int(max_iterations) < 1 or not (rtol >= 0 and atol >= 0 and rtol + atol > 0):
             raise ValueError("need max_iterations >= 1 and rtol, atol >= 0, not both zero")
         F, self.u = _as_list(F), _as_list(u)
@@ -214,7 +250,11 @@ class NonlinearContactProblem:
             if not s.rigid
         ]
         self._jacobians = [self._det_form(ui) for ui in self.u]
+        self.tangent: ContactTangent | None = None
+        if linearization == "full":
+            self.tangent = ContactTangent(self.problem.system)
         self.step = NewtonStep()
+        self._sizes = [_size(p.contactor, self.comm) for p in self.problem.pairs]
 
     @staticmethod
     def _det_form(u: dolfinx.fem.Function) -> tuple[dolfinx.fem.Function, dolfinx.fem.Expression]:
@@ -267,15 +307,18 @@ class NonlinearContactProblem:
                 + "; take a smaller load step"
             )
 
-    def residual(self) -> tuple[float, float]:
-        r"""The residual on the free dofs at :math:`\mathbf u` and the multipliers.
+    def residual(self) -> tuple[float, float, float]:
+        r"""The residuals at :math:`\mathbf u` and the multipliers (collective).
 
-        :math:`\mathbf R(\mathbf u) - \sum_j \mathbf B_j(\mathbf u)^T \Lambda_j`, the
-        coupling assembled on surfaces placed at :math:`\mathbf u` (call :meth:`place`
-        first). Returns the largest entry relative to the force scale, and the scale
-        (collective).
+        With the coupling assembled on surfaces placed at :math:`\mathbf u` (call
+        :meth:`place` first): the force residual :math:`\mathbf R(\mathbf u) - \sum_j
+        \mathbf B_j(\mathbf u)^T \Lambda_j` on the free dofs, relative to the force
+        scale (the largest of :math:`|\mathbf R|`, reactions included, and of the contact
+        forces); the scale; and the gap residual: the largest weighted gap
+        :math:`|\tilde g_j| / \int \mu_j` of an active multiplier (of a penetrating
+        inactive one), relative to the contactor's size.
         """
-        problem = self.problem
+        problem, comm = self.problem, self.comm
         forces = []
         for Fi in self._F:
             R = dolfinx.fem.petsc.assemble_vector(Fi)
@@ -284,14 +327,30 @@ class NonlinearContactProblem:
         contact = [R.duplicate() for R in forces]
         for c in contact:
             c.set(0.0)
-        for pair, lam in zip(problem.pairs, problem.multipliers, strict=True):
+        gap = 0.0
+        for j, (pair, lam) in enumerate(zip(problem.pairs, problem.multipliers, strict=True)):
             op = assemble_coupling(pair)
+            g = op.G.copy()  # G(u) - B(u) u: the gap at u is g + B u
             for V, B in op.blocks:
                 i = problem.space_index(V)
                 y = B.createVecRight()
                 B.multTranspose(lam.x.petsc_vec, y)
                 contact[i].array[: y.getLocalSize()] += y.array_r
+                B.multAdd(self.u[i].x.petsc_vec, g, g)
                 y.destroy()
+            n = g.getLocalSize()
+            lengths = np.maximum(pair.multiplier_integrals(), pair.multiplier_supports())
+            values = g.array_r / np.where(lengths > 0, lengths, 1.0)
+            if self.contact == "tied":
+                active = np.ones(n, dtype=bool)
+                start = g.getOwnershipRange()[0]
+                inside = op.inactive[(op.inactive >= start) & (op.inactive < start + n)]
+                active[inside - start] = False
+            else:
+                active = problem.active[j].x.array[:n] > 0.5
+            worst = np.where(active, np.abs(values), np.maximum(0.0, -values))
+            gap = max(gap, float(np.max(worst, initial=0.0)) / self._sizes[j])
+            g.destroy()
             op.destroy()
         largest, scale = 0.0, 0.0
         for i, (R, c) in enumerate(zip(forces, contact, strict=True)):
@@ -303,7 +362,8 @@ class NonlinearContactProblem:
             for v in (mask, c):
                 v.destroy()
             R.destroy()
-        return (largest / scale if scale > 0 else largest), scale
+        gap = comm.allreduce(gap, op=MPI.MAX)
+        return (largest / scale if scale > 0 else largest), scale, gap
 
     def _active(self) -> np.ndarray:
         if self.contact == "tied":
@@ -311,6 +371,25 @@ class NonlinearContactProblem:
         n = [f.function_space.dofmap.index_map.size_local for f in self.problem.active]
         active = self.problem.active
         return np.concatenate([f.x.array[:k] > 0.5 for f, k in zip(active, n, strict=True)])
+
+    def _linear_solve(self, active: list | None, frozen: bool) -> tuple[list | None, int]:
+        """The linear problem of an iteration; returns its active set and its solves."""
+        system = self.problem.system
+        if frozen or self.tangent is None:
+            system.set_linearization()
+        else:
+            self.tangent.update(self.u)
+            system.set_linearization(self.tangent.coupling, self.tangent)
+        if isinstance(self.problem, UnilateralContactProblem):
+            self.problem.solve([1.0], active=active)
+            active = [
+                f.x.array[: f.function_space.dofmap.index_map.size_local] > 0.5
+                for f in self.problem.active
+            ]
+            return active, self.problem.history.iterations
+        self.problem.assemble()
+        system.solve()
+        return active, 1
 
     def solve(self) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         """Newton's method from the current :attr:`u` (collective).
@@ -333,26 +412,28 @@ class NonlinearContactProblem:
             begin = time.perf_counter()
             self.check_cells()
             self.place()
-            residual, scale = self.residual()
-            it = NewtonIteration(residual, scale)
+            residual, scale, gap = self.residual()
+            it = NewtonIteration(residual, scale, gap)
             step.iterations.append(it)
-            if changed == 0 and (residual <= self.rtol or residual * scale <= self.atol):
+            small = residual <= self.rtol or residual * scale <= self.atol
+            if changed == 0 and small and gap <= self.rtol:
                 step.converged = True
                 break
             if len(step.iterations) > self.max_iterations:
                 break
             before = self._active()
-            if isinstance(problem, UnilateralContactProblem):
-                problem.solve([1.0], active=active)
-                active = [
-                    f.x.array[: f.function_space.dofmap.index_map.size_local] > 0.5
-                    for f in problem.active
-                ]
-                it.solves = problem.history.iterations
-            else:
-                problem.assemble()
-                problem.system.solve()
-                it.solves = 1
+            # The first iteration of a step moves to its new loads with the last state's
+            # coupling: far from the solution the tangent's unsymmetric terms can make
+            # the active-set iteration cycle (a P2 block slid by 3 elements at once).
+            it.frozen = self.tangent is None or len(step.iterations) == 1
+            try:
+                active, it.solves = self._linear_solve(active, it.frozen)
+            except ContactConvergenceError:
+                if it.frozen:
+                    raise
+                logger.info("the contact set cycles with the tangent: this iteration without")
+                it.frozen = True
+                active, it.solves = self._linear_solve(active, True)
             after = self._active()
             it.active = comm.allreduce(int(np.count_nonzero(after)))
             changed = comm.allreduce(
@@ -383,6 +464,8 @@ class NonlinearContactProblem:
         """Destroy the linear problem's PETSc objects and return the surfaces to X."""
         for surface, _ in self._surfaces:
             surface.set_displacement(None)
+        if self.tangent is not None:
+            self.tangent.destroy()
         self.problem.destroy()
 
     def __enter__(self) -> NonlinearContactProblem:
