@@ -81,6 +81,7 @@ class NewtonIteration:
         seconds: Its wall time (process 0).
         frozen: Whether its matrix left out the coupling's change (the first iteration
             of a step; one whose contact set cycled with it).
+        damping: The fraction of its step taken (halved while the step inverts cells).
     """
 
     residual: float
@@ -92,6 +93,7 @@ class NewtonIteration:
     solves: int = 0
     seconds: float = 0.0
     frozen: bool = False
+    damping: float = 1.0
 
 
 @dataclass
@@ -184,11 +186,12 @@ class NonlinearContactProblem:
             bcs: Dirichlet conditions on the total displacement.
             J: Jacobian of each ``F_i``; default ``ufl.derivative(F_i, u_i)``.
             contact: ``"unilateral"`` (Eq. 1, the active-set loop) or ``"tied"``.
-            linearization: ``"full"``: the change of the contact force with
+            linearization: ``"full"``: the change of the contact terms with
                 :math:`\mathbf u` in Newton's matrix
-                (:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`,
-                segment-to-segment pairs); ``"frozen"``: the coupling of each iteration
-                without its change (linear convergence where surfaces slide).
+                (:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`; meshed
+                targets, not ``"intermediate-surface"``); ``"frozen"``: the coupling of
+                each iteration without its change (linear convergence where surfaces
+                slide).
             max_iterations: Largest number of Newton iterations of a solve.
             rtol: Converged when the residual relative to the force scale is at most
                 ``rtol`` (or at most ``atol`` absolute), the gap residual relative to the
@@ -209,13 +212,18 @@ class NonlinearContactProblem:
             raise ValueError(f"contact must be 'unilateral' or 'tied', not {contact!r}")
         if linearization not in ("full", "frozen"):
             raise ValueError(f"linearization must be 'full' or 'frozen', not {linearization!r}")
-        if linearization == "full" and any(p.method != "segment-to-segment" for p in pairs):
+        local = all(
+            p.method != "intermediate-surface"
+            and not p.obstacles
+            and not any(t.rigid for t in p.targets)
+            for p in pairs
+        )
+        if linearization == "full" and not local:
             raise ValueError(
-                "linearization='full' needs segment-to-segment pairs; use "
-                "linearization='frozen' with other methods"
+                "linearization='full' needs pairs whose groups depend on their two cells "
+                "only (not 'intermediate-surface', no rigid or analytic targets); use "
+                "linearization='frozen'"
             )
-        if int(max_iterations) < 1 or not (rtol >= 0 and atol >= 0 and rtol + atol > 0):
-            raise ValueError("need max_iterations >= 1 and rtol, atol >= 0, not both zero")
         F, self.u = _as_list(F), _as_list(u)
         if len(F) != len(self.u):
             raise ValueError("give one residual form per displacement function")
@@ -287,15 +295,19 @@ class NonlinearContactProblem:
         for surface, i in self._surfaces:
             surface.set_displacement(self.u[i])
 
-    def check_cells(self) -> None:
-        r"""Raise on every rank if some cell has :math:`\det F \le 0` at its midpoint."""
+    def _inverted(self) -> list:
+        """Per process, up to three (space, local cell) with det F <= 0 (collective)."""
         bad = []
         for i, (det, expression) in enumerate(self._jacobians):
             det.interpolate(expression)
             n = det.function_space.dofmap.index_map.size_local
             cells = np.flatnonzero(~(det.x.array[:n] > 0.0))
             bad += [(i, int(c)) for c in cells[:3]]
-        found = self.comm.allgather(bad)
+        return self.comm.allgather(bad)
+
+    def check_cells(self) -> None:
+        r"""Raise on every rank if some cell has :math:`\det F \le 0` at its midpoint."""
+        found = self._inverted()
         if any(found):
             raise ValueError(
                 "the displacement inverts cells (det F <= 0): "
@@ -391,6 +403,27 @@ class NonlinearContactProblem:
         system.solve()
         return active, 1
 
+    def _update(self, start: list, new: list, multipliers: list) -> float:
+        """Move :attr:`u` to the solve's ``new`` values, halving the step while it inverts cells.
+
+        The multipliers are moved by the same fraction (from their ``multipliers``
+        before the solve). Returns the fraction; raises (:meth:`check_cells`) below 1/64.
+        """
+        alpha = 1.0
+        while True:
+            for ui, u0, u1 in zip(self.u, start, new, strict=True):
+                ui.x.array[:] = u0 + alpha * (u1 - u0)
+            if not any(self._inverted()):
+                break
+            if alpha < 1 / 64:
+                self.check_cells()
+            alpha /= 2
+        if alpha < 1.0:
+            logger.info("Newton step damped by %g: the full step inverts cells", alpha)
+            for f, lam0 in zip(self.problem.multipliers, multipliers, strict=True):
+                f.x.array[:] = lam0 + alpha * (f.x.array - lam0)
+        return alpha
+
     def solve(self) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         """Newton's method from the current :attr:`u` (collective).
 
@@ -422,6 +455,8 @@ class NonlinearContactProblem:
             if len(step.iterations) > self.max_iterations:
                 break
             before = self._active()
+            start = [ui.x.array.copy() for ui in self.u]
+            multipliers = [f.x.array.copy() for f in problem.multipliers]
             # The first iteration of a step moves to its new loads with the last state's
             # coupling: far from the solution the tangent's unsymmetric terms can make
             # the active-set iteration cycle (a P2 block slid by 3 elements at once).
@@ -446,8 +481,8 @@ class NonlinearContactProblem:
                 n = dofmap.index_map.size_local * dofmap.index_map_bs
                 change = np.max(np.abs(Ui.x.array[:n] - ui.x.array[:n]), initial=0.0)
                 increment = max(increment, float(change))
-                ui.x.array[:] = Ui.x.array
             it.increment = comm.allreduce(increment, op=MPI.MAX)
+            it.damping = self._update(start, [U.x.array for U in problem.u], multipliers)
             it.seconds = comm.bcast(time.perf_counter() - begin, root=0)
             if self._monitor is not None:
                 self._monitor(it)

@@ -19,8 +19,9 @@ of that group's cell: :math:`4 n_x d` integrations per surface (:math:`n_x` node
 cell), whatever the mesh size, by central differences (:math:`h = 10^{-6}` of the median
 facet size; measured against moving one dof at a time and assembling the whole coupling
 again: 3.5e-10 relative). Groups are matched by their multiplier rows and their two
-cells' dofs. Segment-to-segment pairs only (node-based groups are points, not pairs of
-facets); the analytic derivatives (Popp et al. 2009) would remove the :math:`10^{-10}`.
+cells' dofs. Any pair whose groups depend on their two cells only: segment-to-segment and
+the node-based methods (a node and its target facet), not the intermediate surface; the
+analytic derivatives (Popp et al. 2009) would remove the :math:`10^{-10}`.
 """
 
 from __future__ import annotations

@@ -12,138 +12,19 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import pytest
-import scipy.optimize
 import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.finite import NonlinearContactProblem, NonlinearConvergenceError
-from dolfinx_contact_s2s.meshing import curved_mesh
+from paper.large_sliding import BOTTOM, MATERIALS, TOP, SlidingScene, neo_hookean
 
 comm = MPI.COMM_WORLD
 
-P = 0.2
-MATERIALS = ((1.0, 0.3), (2.0, 0.25))  # (E, nu) of the lower and the upper block
-EXPOSED, TOP, BOTTOM, LEFT, RIGHT = 5, 2, 1, 4, 3
 
-
-def lame(E: float, nu: float) -> tuple[float, float]:
-    return E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))
-
-
-def neo_hookean(u: dolfinx.fem.Function, E: float, nu: float) -> ufl.Form:
-    """Residual of a compressible neo-Hookean solid in plane strain (a user's own form)."""
-    mu, lmbda = lame(E, nu)
-    v = ufl.TestFunction(u.function_space)
-    F = ufl.Identity(2) + ufl.grad(u)
-    J = ufl.det(F)
-    C = F.T * F
-    energy = mu / 2 * (ufl.tr(C) + 1 - 3) - mu * ufl.ln(J) + lmbda / 2 * ufl.ln(J) ** 2
-    return ufl.derivative(energy * ufl.dx, u, v)
-
-
-def stretch(E: float, nu: float, p: float) -> float:
-    """beta of uniaxial strain F = diag(1, beta) with P_yy = -p (the exact state)."""
-    mu, lmbda = lame(E, nu)
-    return scipy.optimize.brentq(lambda b: mu * (b - 1 / b) + lmbda * np.log(b) / b + p, 0.2, 1.0)
-
-
-def block(lower: bool, degree: int):
-    """A block, tagged; P2 gets a quadratic geometry (the current facets follow u)."""
-    box = [[-1.0, 0.0], [2.0, 0.5]] if lower else [[0.0, 0.5], [1.0, 1.0]]
-    mesh = dolfinx.mesh.create_rectangle(comm, box, [39, 4] if lower else [9, 4])
-    (x0, y0), (x1, y1) = box
-    markers = [
-        (TOP, lambda x: np.isclose(x[1], y1)),
-        (BOTTOM, lambda x: np.isclose(x[1], y0)),
-        (LEFT, lambda x: np.isclose(x[0], x0)),
-        (RIGHT, lambda x: np.isclose(x[0], x1)),
-    ]
-    found = [(dolfinx.mesh.locate_entities_boundary(mesh, 1, f), t) for t, f in markers]
-    facets = np.concatenate([f for f, _ in found])
-    values = np.concatenate([np.full(f.size, t, dtype=np.int32) for f, t in found])
-    order = np.argsort(facets, kind="stable")
-    tags = dolfinx.mesh.meshtags(mesh, 1, facets[order], values[order])
-    if degree == 2:
-        imap = mesh.topology.index_map(2)
-        cells = np.arange(imap.size_local, dtype=np.int32)
-        ctags = dolfinx.mesh.meshtags(mesh, 2, cells, np.ones_like(cells))
-        mesh, _, tags = curved_mesh(mesh, ctags, tags)
-    return mesh, tags
-
-
-class SlidingScene:
-    """The two blocks, their neo-Hookean residuals, loads and conditions.
-
-    The lower top the upper block leaves open carries P (a DG0 factor on the cells at
-    the top, updated with the slide: slides are whole lower elements, 1/13, so the open
-    part is whole facets).
-    """
-
-    def __init__(self, degree: int):
-        self.F, self.u, self.bcs, self.spaces, self.tags = [], [], [], [], []
-        for k, lower in enumerate((True, False)):
-            mesh, tags = block(lower, degree)
-            V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
-            u = dolfinx.fem.Function(V, name=f"u{k}")
-            v = ufl.TestFunction(V)
-            ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
-            load = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("DG", 0)))
-            load.x.array[:] = 0.0 if lower else P
-            # P_nominal = P: no lateral stretch, the top stays horizontal.
-            self.F.append(neo_hookean(u, *MATERIALS[k]) + load * v[1] * ds(TOP))
-            if lower:
-                self.load, self.lower_top = load, self._top_cells(mesh, tags)
-                fixed = [(0, LEFT, 0.0), (0, RIGHT, 0.0), (1, BOTTOM, 0.0)]
-            else:
-                self.slide = dolfinx.fem.Constant(mesh, 0.0)
-                fixed = [(0, LEFT, self.slide), (0, RIGHT, self.slide)]
-            for component, tag, value in fixed:
-                dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), 1, tags.find(tag))
-                self.bcs.append(dolfinx.fem.dirichletbc(value, dofs, V.sub(component)))
-            self.u.append(u)
-            self.spaces.append(V)
-            self.tags.append(tags)
-
-    @staticmethod
-    def _top_cells(mesh, tags):
-        """The cells on the lower top and their facet midpoints' x."""
-        mesh.topology.create_connectivity(1, 2)
-        f_to_c = mesh.topology.connectivity(1, 2)
-        facets = tags.find(TOP)
-        cells = np.array([f_to_c.links(f)[0] for f in facets], dtype=np.int32)
-        x = dolfinx.mesh.compute_midpoints(mesh, 1, facets)[:, 0]
-        return cells, x
-
-    def set_slide(self, shift: float) -> None:
-        self.slide.value = shift
-        cells, x = self.lower_top
-        self.load.x.array[cells] = np.where((x < shift) | (x > 1 + shift), P, 0.0)
-        self.load.x.scatter_forward()
-
-    def pair(self, method: str = "segment-to-segment"):
-        target = contact_surface(self.spaces[0], self.tags[0], TOP)
-        contactor = contact_surface(self.spaces[1], self.tags[1], BOTTOM)
-        return contact_pair(contactor, target, method=method)
-
-    def errors(self, lam, shift):
-        """max |lambda - P| / P and max |u - u_exact| (the homogeneous state)."""
-        n = lam.function_space.dofmap.index_map.size_local
-        lam_error = np.max(np.abs(lam.x.array[:n] - P), initial=0.0) / P
-        beta = [stretch(*m, P) for m in MATERIALS]
-        u_error = 0.0
-        for k, (V, u) in enumerate(zip(self.spaces, self.u, strict=True)):
-            X = V.tabulate_dof_coordinates()[:, :2]
-            if k == 0:
-                exact = np.stack([0 * X[:, 0], (beta[0] - 1) * X[:, 1]], axis=1)
-            else:
-                y = (beta[0] - 1) * 0.5 + (beta[1] - 1) * (X[:, 1] - 0.5)
-                exact = np.stack([shift + 0 * X[:, 0], y], axis=1)
-            m = V.dofmap.index_map.size_local
-            u_error = max(u_error, np.max(np.abs(u.x.array[: 2 * m].reshape(-1, 2) - exact[:m])))
-        return (
-            comm.allreduce(float(lam_error), op=MPI.MAX),
-            comm.allreduce(float(u_error), op=MPI.MAX),
-        )
+def residual(u: dolfinx.fem.Function, E: float, nu: float) -> ufl.Form:
+    """A neo-Hookean body's residual form (the user's own)."""
+    energy = neo_hookean(u, E, nu) * ufl.dx
+    return ufl.derivative(energy, u, ufl.TestFunction(u.function_space))
 
 
 @pytest.mark.parametrize("degree", [1, 2])
@@ -219,7 +100,7 @@ def pressed_blocks(angle: float, delta: float = 0.04):
         motion.interpolate(lambda x, held=held: np.outer(held, np.ones(x.shape[1])))
         dofs = dolfinx.fem.locate_dofs_topological(V, 1, tags.find(BOTTOM if k == 0 else TOP))
         bcs.append(dolfinx.fem.dirichletbc(motion, dofs))
-        F.append(neo_hookean(uk, *MATERIALS[k]))
+        F.append(residual(uk, *MATERIALS[k]))
         u.append(uk)
         spaces.append(V)
         tags_of.append(tags)
@@ -269,9 +150,12 @@ def test_objectivity(angle):
 
 def test_inverted_cells_and_slow_steps_raise():
     """A step that inverts cells names them; one that does not converge shows its history."""
-    F, u, bcs, pair, _, _ = pressed_blocks(0.0, delta=1.2)
+    F, u, bcs, pair, _, _ = pressed_blocks(0.0)
     with NonlinearContactProblem(F, u, [pair], bcs, petsc_options_prefix="bad_nl_") as problem:
-        with pytest.raises(ValueError, match=r"inverts cells \(det F <= 0\).*smaller load step"):
+        # A start the user mirrored: every cell of the lower block inverted.
+        X = u[0].function_space.tabulate_dof_coordinates()[:, :2]
+        u[0].x.array[:] = np.stack([-2 * X[:, 0], 0 * X[:, 1]], axis=1).reshape(-1)
+        with pytest.raises(ValueError, match=r"inverts cells \(det F <= 0\): process"):
             problem.solve()
     F, u, bcs, pair, _, _ = pressed_blocks(0.0)
     with NonlinearContactProblem(
