@@ -9,7 +9,7 @@ SUITE   ?= trixie
 
 .PHONY: demo bench bench-smoke fuzz test check lint package test-serial test-mpi test-mpi3 smoke env clean
 
-## demo: the patch-test, inf-sup, Hertz, Fig. 16, speed-accuracy, extremes, rigid-obstacle, adaptive-edge, axisymmetric Hertz, 3D, 3D Hertz and friction studies on 1 and 2 ranks -> results/
+## demo: the patch-test, inf-sup, Hertz, Fig. 16, speed-accuracy, extremes, rigid-obstacle, adaptive-edge, axisymmetric Hertz, 3D, 3D Hertz, friction and large-sliding studies on 1 and 2 ranks -> results/
 demo:
 	$(ENV_RUN) python3 demos/demo_patch_test.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_patch_test.py
@@ -39,6 +39,8 @@ demo:
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_friction_3d.py
 	$(ENV_RUN) python3 demos/demo_friction_penalty.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_friction_penalty.py
+	$(ENV_RUN) python3 demos/demo_large_sliding.py
+	$(ENV_RUN) $(MPIRUN) python3 demos/demo_large_sliding.py
 
 ## bench: every performance figure of issues 11 and 21 (3D: P9-P11) as a ratio measured in one run
 ## -> results/bench/*.json, plots and the performance section of results/report.md (about 10-20
@@ -176,6 +178,8 @@ smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_3d.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
 	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_large_sliding.py --smoke --out build/smoke-$(SUITE)
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_large_sliding.py --smoke --out build/smoke-$(SUITE)
 
 ## env: build the FEniCSx environment only
 env:
