@@ -29,7 +29,9 @@ ends): :math:`\mathbf J - \mathbf H_k` in the displacement rows, :math:`\mathbf 
 (:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`: central differences of each
 group's integrals, about :math:`10^{-10}` relative); Newton then converges
 quadratically. The first iteration of a step, which moves to its new loads, leaves them
-out. ``"frozen"``: every iteration without them (linear convergence where surfaces slide).
+out, and so does the rest of a step that stalls (the residual not halved in five
+iterations). ``"frozen"``: every iteration without them (linear convergence where
+surfaces slide).
 :attr:`step` records every iteration's residuals and the measured order.
 
 This module needs petsc4py and must be imported explicitly.
@@ -80,7 +82,7 @@ class NewtonIteration:
         solves: Linear solves of its contact iteration.
         seconds: Its wall time (process 0).
         frozen: Whether its matrix left out the coupling's change (the first iteration
-            of a step; one whose contact set cycled with it).
+            of a step; one whose contact set cycled with it; those after a stall).
         damping: The fraction of its step taken (halved while the step inverts cells).
     """
 
@@ -440,7 +442,7 @@ class NonlinearContactProblem:
         self.step = step = NewtonStep()
         comm, problem = self.comm, self.problem
         active: list | None = None
-        changed = -1
+        changed, stalled = -1, False
         for _ in range(self.max_iterations + 1):
             begin = time.perf_counter()
             self.check_cells()
@@ -460,7 +462,12 @@ class NonlinearContactProblem:
             # The first iteration of a step moves to its new loads with the last state's
             # coupling: far from the solution the tangent's unsymmetric terms can make
             # the active-set iteration cycle (a P2 block slid by 3 elements at once).
-            it.frozen = self.tangent is None or len(step.iterations) == 1
+            # A stall (no halving of the residual in five iterations): with the tangent the
+            # contact edge's node can go in and out for ever (ironing at h <= 0.25, a
+            # nearly singular row at that node); the rest of the step goes without it.
+            k = len(step.iterations)
+            stalled = stalled or (k > 6 and it.residual > 0.5 * step.iterations[k - 6].residual)
+            it.frozen = self.tangent is None or k == 1 or stalled
             try:
                 active, it.solves = self._linear_solve(active, it.frozen)
             except ContactConvergenceError:
