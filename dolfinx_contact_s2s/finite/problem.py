@@ -157,9 +157,10 @@ class NonlinearContactProblem:
     displacement. Load steps are the user's: change the loads and Dirichlet values, then
     call :meth:`solve` again; each solve starts from the current :math:`\mathbf u_i`.
 
-    Every iteration checks its linear solve as the linear problems do; the step checks
-    that no cell is inverted (:math:`\det F \le 0` raises, naming the cell) and raises
-    :class:`NonlinearConvergenceError` with its history if it does not converge.
+    Every iteration checks its linear solve as the linear problems do; a Newton step that
+    would invert a cell (:math:`\det F \le 0` at its midpoint) is halved, and an
+    inverted start raises, naming the cell; a solve that does not converge raises
+    :class:`NonlinearConvergenceError` with its iterations (:attr:`step`).
     """
 
     def __init__(

@@ -51,12 +51,15 @@ def _global_to_local(imap) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32]
 
 
 class ContactTangent:
-    r"""The tangent :math:`\mathbf H_k` of a system's pairs, and its terms in every build.
+    r"""The tangent :math:`\mathbf H_k`, :math:`\mathbf D_k` of a system's pairs, and its terms.
 
-    Installed as the system's :attr:`~dolfinx_contact_s2s.system.ContactSystem.extra`:
-    every saddle point it builds gets :math:`-\mathbf H_k` in its displacement blocks
-    (Dirichlet rows and columns masked) and :math:`-\mathbf H_k (\mathbf u_k - \mathbf
-    U_D)` on the right (so that the linearization holds at :math:`\mathbf u_k`).
+    Installed with :meth:`~dolfinx_contact_s2s.system.ContactSystem.set_linearization`
+    (``coupling=tangent.coupling, extra=tangent``): every assembly's coupling has the rows
+    :math:`\mathbf D_k` (:meth:`coupling`), and every saddle point it builds gets
+    :math:`-\mathbf H_k` in its displacement blocks (Dirichlet rows and columns masked),
+    :math:`-\mathbf H_k (\mathbf u_k - \mathbf U_D)` on the right, and its force columns
+    back to :math:`\mathbf B_k^T` (:meth:`__call__`). Call :meth:`update` before each
+    assembly.
     """
 
     def __init__(self, system: ContactSystem, step: float = 1e-6):
@@ -118,12 +121,14 @@ class ContactTangent:
             for a in range(base.coords.shape[1]):
                 for d in range(base.coords.shape[2]):
                     evaluations = []
-                    for sign in (1.0, -1.0):
-                        coords = base.coords.copy()
-                        coords[:, a, d] += sign * h
-                        surface.data = surface.geometry(coords)
-                        evaluations.append(self._groups(lam))
-                    surface.data = base
+                    try:
+                        for sign in (1.0, -1.0):
+                            coords = base.coords.copy()
+                            coords[:, a, d] += sign * h
+                            surface.data = surface.geometry(coords)
+                            evaluations.append(self._groups(lam))
+                    finally:
+                        surface.data = base
                     self._differences(surface, (a, d), h, evaluations, entries)
         self._assemble(entries)
         self.u = [ui.x.petsc_vec.array_r.copy() for ui in u]
