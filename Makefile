@@ -2,7 +2,7 @@
 # scripts/env-run (a Debian root built on first use; S2S_SUITE picks trixie or sid).
 ENV_RUN := scripts/env-run
 MPIRUN  := mpirun -n 2
-PYTEST  := python3 -m pytest -q -p no:cacheprovider
+PYTEST  := python3 -m pytest -q -p no:cacheprovider --durations=15
 # A bug that raises on one rank only leaves the others in a collective: fail, don't hang.
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie

@@ -24,7 +24,9 @@ import numpy.typing as npt
 import ufl
 
 from dolfinx_contact_s2s.kernels import KernelBackend, numpy_backend
+from dolfinx_contact_s2s.multiplier import cell_rows
 from dolfinx_contact_s2s.pair import ContactPair
+from dolfinx_contact_s2s.quadrature import interval_rule
 
 __all__ = [
     "UNCOVERED_TOLERANCE",
@@ -121,6 +123,10 @@ def coo_matrix(
 #: most this fraction of its integral.
 UNCOVERED_TOLERANCE = 1e-10
 
+#: A facet of a multiplier's support is partly covered when the part of it that faces a
+#: target is shorter than its length by more than this fraction.
+PARTLY_COVERED_TOLERANCE = 1e-8
+
 
 @dataclass
 class CouplingOperator:
@@ -146,6 +152,10 @@ class CouplingOperator:
         rigid: ``(surface, B_T)`` for each rigid target
             (:class:`~dolfinx_contact_s2s.obstacles.RigidSurface`): its block, kept out of
             the saddle point; it moves the gap (:meth:`gap`).
+        partial: Global multiplier dofs with a facet of their support that faces a target
+            over part of its length only (the end of a target's reach; edges of
+            segment-to-segment with a composite rule, else empty). Sorted, on every
+            process.
     """
 
     pair: ContactPair
@@ -153,6 +163,7 @@ class CouplingOperator:
     G: PETSc.Vec
     uncovered: npt.NDArray[np.int64]
     rigid: list[tuple[typing.Any, PETSc.Mat]] = field(default_factory=list)
+    partial: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def gap(self, load: float = 1.0) -> PETSc.Vec:
         r"""The gap at load factor ``load``; the caller destroys it.
@@ -203,6 +214,35 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
     covered.destroy()
     mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
     return np.concatenate(comm.allgather(mine)).astype(np.int64)
+
+
+def _partly_covered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.int64]:
+    """Global multiplier dofs with a partly covered facet (see :class:`CouplingOperator`)."""
+    cs, C = pair.contactor, pair.contactor.data
+    imap = pair.Q.dofmap.index_map
+    marks = PETSc.Vec().createMPI([imap.size_local, imap.size_global], comm=cs.comm)
+    n = len(C)
+    composite = pair.method == "segment-to-segment" and pair.quadrature.startswith("composite")
+    if cs.facet_dim == 1 and composite and n:
+        facets = cell_rows(pair.multiplier, np.arange(n, dtype=np.int32))
+        xi, w = interval_rule("gauss", 4)
+        points = np.repeat(np.arange(n, dtype=np.int32), xi.size)
+        _, dx = cs.backend.evaluate(C.coefficients, points, np.tile(xi, n))
+        lengths = (np.linalg.norm(dx, axis=1).reshape(n, -1) * w).sum(axis=1)
+        # A group's length is the sum of its coverage (the multiplier is a partition of
+        # unity); groups are matched to their facet by their multiplier dofs.
+        keys, inverse = np.unique(np.concatenate([facets, *rows]), axis=0, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        spans = np.concatenate([np.zeros(0), *(c.sum(axis=1) for c in coverage)])
+        covered = np.bincount(inverse[n:], spans, minlength=len(keys))[inverse[:n]]
+        partial = facets[covered < (1 - PARTLY_COVERED_TOLERANCE) * lengths].reshape(-1)
+        marks.setValues(
+            partial.astype(PETSc.IntType), np.ones(partial.size), addv=PETSc.InsertMode.ADD_VALUES
+        )
+    marks.assemble()
+    mine = imap.local_range[0] + np.flatnonzero(marks.array_r > 0).astype(np.int64)
+    marks.destroy()
+    return np.concatenate(cs.comm.allgather(mine)).astype(np.int64)
 
 
 def assemble_coupling(
@@ -285,8 +325,10 @@ def assemble_coupling(
     G.assemble()
     if not tangential:
         _linearize(pair, blocks, G)
-    uncovered = _uncovered(pair, [b.rows for b in groups], [b.coverage for b in groups])
-    return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks)
+    rows, coverage = [b.rows for b in groups], [b.coverage for b in groups]
+    uncovered = _uncovered(pair, rows, coverage)
+    partial = _partly_covered(pair, rows, coverage)
+    return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks, partial)
 
 
 def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:

@@ -239,3 +239,48 @@ def test_hand_computed_block(quadrature):
     assert np.abs(Bc).sum() == pytest.approx(np.abs(exact_c).sum(), abs=tol)
     assert np.max(np.abs(Bt[:, x_t]), initial=0.0) < tol
     assert np.max(np.abs(Bc[:, x_c]), initial=0.0) < tol
+
+
+def _tagged_rectangle(corner, size, cells, y_tag):
+    """A rectangle of triangles whose facets on the line ``y = y_tag[0]`` carry ``y_tag[1]``."""
+    (x0, y0), (w, h) = corner, size
+    mesh = dolfinx.mesh.create_rectangle(
+        MPI.COMM_WORLD, [[x0, y0], [x0 + w, y0 + h]], cells, dolfinx.mesh.CellType.triangle
+    )
+    fdim = mesh.topology.dim - 1
+    facets = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[1], y_tag[0]))
+    values = np.full(facets.size, y_tag[1], dtype=np.int32)
+    return mesh, dolfinx.mesh.meshtags(mesh, fdim, facets, values)
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_partly_covered_multipliers(degree):
+    """Multipliers whose support a target covers only in part: read off the geometry.
+
+    The contactor, the top of [0, 3] x [0, 1] (facets of length 0.5), faces the bottom of
+    [0.2, 2.3] x [1, 1.5]: its facets [0.5, 1], [1, 1.5] and [1.5, 2] are covered whole,
+    [0, 0.5] and [2, 2.5] in part, [2.5, 3] not at all. A multiplier is partly covered
+    unless every facet of its support is covered whole, and uncovered if none is touched.
+    """
+    lower = _tagged_rectangle((0.0, 0.0), (3.0, 1.0), (6, 2), (1.0, 1))
+    upper = _tagged_rectangle((0.2, 1.0), (2.1, 0.5), (7, 2), (1.0, 2))
+    surfaces = []
+    for (mesh, tags), tag in ((lower, 1), (upper, 2)):
+        V = dolfinx.fem.functionspace(mesh, ("Lagrange", degree, (2,)))
+        surfaces.append(contact_surface(V, tags, tag))
+    pair = contact_pair(*surfaces, search_radius=0.1)
+    op = assemble_coupling(pair)
+    x = _dof_coordinates(pair.Q)[:, 0]
+    # The support of the multiplier at x: the facets within h = 0.5 of its node (vertex
+    # functions), or its own facet (P2 midpoints).
+    lo = np.where(np.isclose(x * 2, np.round(x * 2)), x - 0.5, np.floor(x * 2) / 2)
+    hi = np.where(np.isclose(x * 2, np.round(x * 2)), x + 0.5, np.ceil(x * 2) / 2)
+    whole = (lo >= 0.5 - 1e-12) & (hi <= 2.0 + 1e-12)
+    none = lo >= 2.3 - 1e-12
+    np.testing.assert_array_equal(np.sort(op.partial), np.flatnonzero(~whole))
+    if degree == 1:
+        # P2 vertex functions: the signed integral over a covered part can vanish (see
+        # tests/test_overhang_p2.py).
+        np.testing.assert_array_equal(np.sort(op.uncovered), np.flatnonzero(none))
+    assert np.count_nonzero(whole) == (2 if degree == 1 else 5)
+    op.destroy()

@@ -28,10 +28,14 @@ ends): :math:`\mathbf J - \mathbf H_k` in the displacement rows, :math:`\mathbf 
 :math:`\mathbf D_k` in the multiplier rows
 (:class:`~dolfinx_contact_s2s.finite.tangent.ContactTangent`: central differences of each
 group's integrals, about :math:`10^{-10}` relative); Newton then converges
-quadratically. The first iteration of a step, which moves to its new loads, leaves them
-out, and so does the rest of a step that stalls (the residual not halved in five
-iterations). ``"frozen"``: every iteration without them (linear convergence where
-surfaces slide).
+quadratically where the coupling is smooth (flat surfaces sliding; measured orders on
+curved faceted ones: README). The first iteration of a step, which moves to its new
+loads, leaves them out, and so does one whose contact set cycles with them. A
+multiplier whose support a target covers only in part keeps its row of :math:`\mathbf B_k`
+(:attr:`~dolfinx_contact_s2s.assemble.CouplingOperator.partial`): its weighted gap is
+the gap times the covered length, whose derivative would extrapolate it through zero
+at the end of a target's reach. ``"frozen"``: every iteration without them (linear
+convergence where surfaces slide).
 :attr:`step` records every iteration's residuals and the measured order.
 
 This module needs petsc4py and must be imported explicitly.
@@ -82,7 +86,7 @@ class NewtonIteration:
         solves: Linear solves of its contact iteration.
         seconds: Its wall time (process 0).
         frozen: Whether its matrix left out the coupling's change (the first iteration
-            of a step; one whose contact set cycled with it; those after a stall).
+            of a step; one whose contact set cycled with it; ``"frozen"``).
         damping: The fraction of its step taken (halved while the step inverts cells).
     """
 
@@ -107,12 +111,21 @@ class NewtonStep:
 
     @property
     def orders(self) -> list[float]:
-        r"""Measured orders :math:`\log(r_{k+1}/r_k) / \log(r_k/r_{k-1})` of the residuals."""
-        r = [it.residual for it in self.iterations]
+        r"""Measured orders :math:`\log(r_{k+1}/r_k) / \log(r_k/r_{k-1})` of the residuals.
+
+        Only where they mean one: from falling residuals :math:`r_{k-1} > r_k > r_{k+1}`
+        of iterations that left the contact set alone, with :math:`r_{k+1}` above a
+        hundred times the last residual (the round-off floor of a converged step).
+        """
+        its = self.iterations
+        r = [it.residual for it in its]
+        floor = 100 * r[-1] if self.converged else 0.0
         return [
             math.log(r[k + 1] / r[k]) / math.log(r[k] / r[k - 1])
             for k in range(1, len(r) - 1)
-            if r[k + 1] > 0 and r[k] > 0 and r[k - 1] > 0 and r[k] != r[k - 1]
+            if r[k - 1] > r[k] > r[k + 1] > floor
+            and its[k - 1].changed == 0
+            and its[k].changed == 0
         ]
 
     def describe(self) -> str:
@@ -443,7 +456,7 @@ class NonlinearContactProblem:
         self.step = step = NewtonStep()
         comm, problem = self.comm, self.problem
         active: list | None = None
-        changed, stalled = -1, False
+        changed = -1
         for _ in range(self.max_iterations + 1):
             begin = time.perf_counter()
             self.check_cells()
@@ -462,13 +475,8 @@ class NonlinearContactProblem:
             multipliers = [f.x.array.copy() for f in problem.multipliers]
             # The first iteration of a step moves to its new loads with the last state's
             # coupling: far from the solution the tangent's unsymmetric terms can make
-            # the active-set iteration cycle (a P2 block slid by 3 elements at once).
-            # A stall (no halving of the residual in five iterations): with the tangent the
-            # contact edge's node can go in and out for ever (ironing at h <= 0.25, a
-            # nearly singular row at that node); the rest of the step goes without it.
-            k = len(step.iterations)
-            stalled = stalled or (k > 6 and it.residual > 0.5 * step.iterations[k - 6].residual)
-            it.frozen = self.tangent is None or k == 1 or stalled
+            # the active-set iteration cycle (a P2 block slid by three elements at once).
+            it.frozen = self.tangent is None or len(step.iterations) == 1
             try:
                 active, it.solves = self._linear_solve(active, it.frozen)
             except ContactConvergenceError:

@@ -212,6 +212,15 @@ class ContactTangent:
                 continue
             E = D.copy()
             E.axpy(-1.0, B, PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+            # A partly covered multiplier keeps its row B_k: its weighted gap is the gap
+            # times the covered length, and linearizing the length (a sliver at the end of
+            # the target's reach) extrapolates it through zero while the bodies are apart.
+            keep = E.createVecLeft()
+            keep.set(1.0)
+            lo, hi = keep.getOwnershipRange()
+            keep.array[op.partial[(op.partial >= lo) & (op.partial < hi)] - lo] = 0.0
+            E.diagonalScale(keep, None)
+            keep.destroy()
             u = PETSc.Vec().createWithArray(self.u[i].copy(), comm=system.comm)
             y = E.createVecLeft()
             E.mult(u, y)
