@@ -90,6 +90,11 @@ def _basis(surface) -> FaceBasis:
     return basis
 
 
+def face_nodes(surface) -> npt.NDArray[np.int64]:
+    """The displacement nodes of each local face of the surface's cell, in face-dof order."""
+    return _basis(surface).cols
+
+
 def _face_dofs(surface, data, groups, basis: FaceBasis, lf) -> npt.NDArray[np.int64]:
     """The unrolled dofs of the functions ``basis.cols[lf]`` of each group's face."""
     bs = surface.V.dofmap.index_map_bs

@@ -114,8 +114,9 @@ class NewtonStep:
         r"""Measured orders :math:`\log(r_{k+1}/r_k) / \log(r_k/r_{k-1})` of the residuals.
 
         Only where they mean one: from falling residuals :math:`r_{k-1} > r_k > r_{k+1}`
-        of iterations that left the contact set alone, with :math:`r_{k+1}` above a
-        hundred times the last residual (the round-off floor of a converged step).
+        of Newton iterations (with the tangent) that left the contact set alone, with
+        :math:`r_{k+1}` above a hundred times the last residual (the round-off floor of
+        a converged step).
         """
         its = self.iterations
         r = [it.residual for it in its]
@@ -124,8 +125,7 @@ class NewtonStep:
             math.log(r[k + 1] / r[k]) / math.log(r[k] / r[k - 1])
             for k in range(1, len(r) - 1)
             if r[k - 1] > r[k] > r[k + 1] > floor
-            and its[k - 1].changed == 0
-            and its[k].changed == 0
+            and not (its[k - 1].changed or its[k].changed or its[k - 1].frozen or its[k].frozen)
         ]
 
     def describe(self) -> str:

@@ -12,16 +12,18 @@ displacement rows get :math:`\mathbf J - \mathbf H_k`) and :math:`\mathbf D_k = 
 only where the surfaces match and touch).
 
 How they are computed: every group of the composite quadrature (a sub-segment in 2D, the
-overlap of two faces in 3D) depends on the nodes of its two facets' cells only. So moving
-node :math:`a` (component :math:`d`) of *every* cell of one surface by :math:`\pm h`
-and integrating again gives, group by group, the derivatives with respect to that node
-of that group's cell: :math:`4 n_x d` integrations per surface (:math:`n_x` nodes per
-cell), whatever the mesh size, by central differences (:math:`h = 10^{-6}` of the median
+overlap of two faces in 3D) depends on the nodes of its two facets only. So moving the
+displacement at node :math:`k` (component :math:`d`) of *every* facet of one surface by
+:math:`\pm h` (its cell's :math:`k`-th node on edges, whose groups carry the cell's
+dofs; the face's :math:`k`-th on faces, whose groups carry the face's) and integrating
+again gives, group by group, the derivatives with respect to that dof of that group's
+facet: :math:`4 n d` integrations per surface (:math:`n` nodes per cell or face),
+whatever the mesh size, by central differences (:math:`h = 10^{-6}` of the median
 facet size; measured against moving one dof at a time and assembling the whole coupling
 again: 3.5e-10 relative). Groups are matched by their multiplier rows and their two
-cells' dofs. Any pair whose groups depend on their two cells only: segment-to-segment and
-the node-based methods (a node and its target facet), not the intermediate surface; the
-analytic derivatives (Popp et al. 2009) would remove the :math:`10^{-10}`.
+facets' dofs. Any pair whose groups depend on their two facets only: segment-to-segment
+and the node-based methods (a node and its target facet), not the intermediate surface;
+the analytic derivatives (Popp et al. 2009) would remove the :math:`10^{-10}`.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling, coo_matrix
+from dolfinx_contact_s2s.face_basis import face_nodes
 
 if typing.TYPE_CHECKING:
     from dolfinx_contact_s2s.system import ContactSystem
@@ -118,18 +121,26 @@ class ContactTangent:
             base = surface.data
             extent = np.ptp(base.coords, axis=1).max(axis=1) if len(base) else np.zeros(0)
             h = self.step * max(comm.allgather(float(np.median(extent)) if extent.size else 0.0))
-            for a in range(base.coords.shape[1]):
+            # Node k of a group's columns: the cell's k-th displacement node on edges (the
+            # columns are the cell's dofs), the face's k-th on faces (the face's dofs).
+            W = surface.node_weights  # u at the geometry nodes from u at V's nodes
+            if surface.facet_dim == 2:
+                nodes = face_nodes(surface)[base.local_facet]
+            else:
+                nodes = np.broadcast_to(np.arange(W.shape[1]), (len(base), W.shape[1]))
+            for k in range(nodes.shape[1]):
+                shift = W.T[nodes[:, k]]  # (facets, geometry nodes): moving u at node k
                 for d in range(base.coords.shape[2]):
                     evaluations = []
                     try:
                         for sign in (1.0, -1.0):
                             coords = base.coords.copy()
-                            coords[:, a, d] += sign * h
+                            coords[:, :, d] += sign * h * shift
                             surface.data = surface.geometry(coords)
                             evaluations.append(self._groups(lam))
                     finally:
                         surface.data = base
-                    self._differences(surface, (a, d), h, evaluations, entries)
+                    self._differences(surface, (k, d), h, evaluations, entries)
         self._assemble(entries)
         self.u = [ui.x.petsc_vec.array_r.copy() for ui in u]
         self._fresh = True
@@ -142,10 +153,9 @@ class ContactTangent:
         Entries are keyed by (rows, columns): ``("u", i)`` the forces on space ``i``,
         ``("lambda", j)`` the gaps of pair ``j``; columns the moved surface's space.
         """
-        a, d = node
+        k, d = node
         index = self.system.space_index
         bs = surface.V.dofmap.index_map_bs
-        weights = surface.node_weights[a]  # the V nodes that move with geometry node a
         for (j, (contactor, target), kp, fp), (_, _, km, fm) in zip(*evaluations, strict=True):
             if surface is not contactor and surface is not target:
                 continue
@@ -161,12 +171,10 @@ class ContactTangent:
                 np.add.at(df, inverse[: len(kp)], fp[side])
                 np.add.at(df, inverse[len(kp) :], -fm[side])
                 df /= 2 * h
-                rows = rows_of[side].reshape(-1)
-                for v in np.flatnonzero(np.abs(weights) > 1e-12):
-                    columns = np.repeat(moved[:, v * bs + d], rows_of[side].shape[1])
-                    entries.setdefault((owner, index(surface.V)), []).append(
-                        (rows, columns, weights[v] * df.reshape(-1))
-                    )
+                columns = np.repeat(moved[:, k * bs + d], rows_of[side].shape[1])
+                entries.setdefault((owner, index(surface.V)), []).append(
+                    (rows_of[side].reshape(-1), columns, df.reshape(-1))
+                )
 
     def _assemble(self, entries: dict) -> None:
         """``H`` and ``D`` from their entries (off-process rows sent to their owners)."""

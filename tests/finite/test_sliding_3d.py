@@ -191,12 +191,6 @@ class SlidingScene3D:
         return lam_error, error / scale
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=IndexError,
-    reason="ContactTangent takes a face group's columns as its cell's dofs; face groups "
-    "carry the face's dofs only (finite/tangent.py, _differences)",
-)
 @pytest.mark.parametrize(
     "cell, degree",
     [("hexahedron", 1), pytest.param("tetrahedron", 2, marks=pytest.mark.slow)],
