@@ -147,8 +147,9 @@ class CouplingOperator:
             of ``V``, values the sum of the contactor and target contributions on ``V``.
         G: The gap vector, in ``pair.Q``'s layout.
         uncovered: Global multiplier dofs whose support faces no target: the integral
-            of :math:`\mu_k` over the covered part is at most
-            :data:`UNCOVERED_TOLERANCE` times its integral. Sorted, on every process.
+            of :math:`\mu_k` (:math:`\mu_k^2` on faces and quadratic edges) over the
+            covered part is at most :data:`UNCOVERED_TOLERANCE` times its integral.
+            Sorted, on every process.
         rigid: ``(surface, B_T)`` for each rigid target
             (:class:`~dolfinx_contact_s2s.obstacles.RigidSurface`): its block, kept out of
             the saddle point; it moves the gap (:meth:`gap`).
@@ -156,6 +157,12 @@ class CouplingOperator:
             over part of its length only (the end of a target's reach; edges of
             segment-to-segment with a composite rule, else empty). Sorted, on every
             process.
+        unsigned: Global multiplier dofs of quadratic edges, covered, whose integral over
+            their covered part is not positive (a vertex function whose edge a target
+            covers up to 3/4 away from it): kept by tied contact, whose rows only need
+            to be independent; unilateral and frictional contact, whose conditions read
+            the sign of :math:`\int \mu_k g`, leave them out (:class:`ContactSystem`
+            ``signed=True``). Sorted, on every process.
     """
 
     pair: ContactPair
@@ -164,6 +171,7 @@ class CouplingOperator:
     uncovered: npt.NDArray[np.int64]
     rigid: list[tuple[typing.Any, PETSc.Mat]] = field(default_factory=list)
     partial: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
+    unsigned: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def gap(self, load: float = 1.0) -> PETSc.Vec:
         r"""The gap at load factor ``load``; the caller destroys it.
@@ -198,8 +206,10 @@ class CouplingOperator:
         self.G.destroy()
 
 
-def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.int64]:
-    """Global multiplier dofs with no coverage (see :class:`CouplingOperator`)."""
+def _uncovered(
+    pair: ContactPair, rows: list, coverage: list, supports: npt.NDArray[np.floating]
+) -> npt.NDArray[np.int64]:
+    """Global multiplier dofs whose ``coverage`` is at most a fraction of ``supports``."""
     Q = pair.Q
     comm = pair.contactor.comm
     imap = Q.dofmap.index_map
@@ -210,7 +220,7 @@ def _uncovered(pair: ContactPair, rows: list, coverage: list) -> npt.NDArray[np.
         addv=PETSc.InsertMode.ADD_VALUES,
     )
     covered.assemble()
-    none = covered.array_r <= UNCOVERED_TOLERANCE * pair.multiplier_supports()
+    none = covered.array_r <= UNCOVERED_TOLERANCE * supports
     covered.destroy()
     mine = imap.local_range[0] + np.flatnonzero(none).astype(np.int64)
     return np.concatenate(comm.allgather(mine)).astype(np.int64)
@@ -326,9 +336,15 @@ def assemble_coupling(
     if not tangential:
         _linearize(pair, blocks, G)
     rows, coverage = [b.rows for b in groups], [b.coverage for b in groups]
-    uncovered = _uncovered(pair, rows, coverage)
-    partial = _partly_covered(pair, rows, coverage)
-    return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks, partial)
+    uncovered = _uncovered(pair, rows, coverage, pair.multiplier_supports())
+    # Quadratic edges: the integral of mu_k over its covered part, against the whole's.
+    signed = [b.coverage if b.signed is None else b.signed for b in groups]
+    unsigned = np.zeros(0, np.int64)
+    if pair.squared_coverage and pair.contactor.facet_dim == 1:
+        nonpositive = _uncovered(pair, rows, signed, pair.multiplier_integrals())
+        unsigned = np.setdiff1d(nonpositive, uncovered).astype(np.int64)
+    partial = _partly_covered(pair, rows, signed)
+    return CouplingOperator(pair, blocks, G, uncovered, rigid_blocks, partial, unsigned)
 
 
 def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:

@@ -340,7 +340,7 @@ class AnalyticObstacle:
             pair.point_weights(g, x[sel]),
             gap[sel, None],
         )
-        coverage = mu * g.weights
+        signed = mu * g.weights
         return CouplingBlocks(
             self,  # type: ignore[arg-type]
             g.rows,
@@ -349,7 +349,8 @@ class AnalyticObstacle:
             np.zeros((S, 0), np.int64),
             np.zeros((S, mu.shape[1], 0)),
             gap_int,
-            coverage,
+            mu**2 * g.weights if pair.squared_coverage else signed,
+            signed,
         )
 
 

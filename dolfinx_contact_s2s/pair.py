@@ -62,8 +62,7 @@ __all__ = [
     "contact_pairs",
 ]
 
-#: Contact discretizations of a single pair (sections 4 and 5); see also
-#: :func:`contact_pairs` for the two-pass method.
+#: Contact discretizations of a single pair (sections 4, 5; two-pass: :func:`contact_pairs`).
 METHODS = tuple(DISCRETIZATIONS)
 
 
@@ -82,8 +81,9 @@ class CouplingBlocks:
         cols_target: Global target displacement dofs, shape ``(S, nt)``.
         values_target: :math:`-\int \mu \, \mathbf v_T^* \cdot \mathbf N`, ``(S, nk, nt)``.
         gap: :math:`\int \mu \, g_0`, ``(S, nk)``.
-        coverage: :math:`\sum_i w^i H^{ik}`, the integral of :math:`\mu_k` over the part
-            of the contactor that faces the target, ``(S, nk)``.
+        coverage: The integral of :math:`\mu_k` (:math:`\mu_k^2` if
+            :attr:`ContactPair.squared_coverage`) over the part facing the target, ``(S, nk)``.
+        signed: That of :math:`\mu_k` on edges; ``None`` on faces.
     """
 
     target: ContactSurface
@@ -94,6 +94,7 @@ class CouplingBlocks:
     values_target: npt.NDArray[np.floating]
     gap: npt.NDArray[np.floating]
     coverage: npt.NDArray[np.floating]
+    signed: npt.NDArray[np.floating] | None = None
 
 
 class ContactPair:
@@ -329,13 +330,15 @@ class ContactPair:
     def multiplier_supports(self) -> npt.NDArray[np.floating]:
         r"""What a multiplier's coverage is compared with to call it uncovered (collective).
 
-        On edges :meth:`multiplier_integrals`; on faces :math:`\int \mu_k^2`
-        (:attr:`MultiplierSpace.squares`), since a P2 vertex function of a triangle has
-        :math:`\int \mu_k = 0`.
+        :math:`\int \mu_k^2` (:attr:`MultiplierSpace.squares`) where
+        :attr:`squared_coverage`, else :meth:`multiplier_integrals`.
         """
-        return (
-            self.multiplier.integrals if self.contactor.facet_dim == 1 else self.multiplier.squares
-        )
+        return self.multiplier.squares if self.squared_coverage else self.multiplier.integrals
+
+    @property
+    def squared_coverage(self) -> bool:
+        """Whether coverage is of mu_k^2 (faces, quadratic edges: vertex integrals may vanish)."""
+        return self.contactor.facet_dim == 2 or self.multiplier.element.degree > 1
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
@@ -431,11 +434,10 @@ class ContactPair:
             self.point_weights(g, x_c + origin),
             gaps.reshape(S, nq),
         )
-        # Whether mu_k faces a target is a property of its support: the plain weights (a
-        # P2 vertex function on the axis has a zero r-weighted integral), and on faces its
-        # square (a P2 vertex function of a triangle integrates to zero).
-        coverage = np.einsum("sqk,sq->sk", mu**2 if cs.facet_dim == 2 else mu, g.weights)
-        return CouplingBlocks(ts, g.rows, dofs_c, b_c, dofs_t, b_t, gap, coverage)
+        # Plain weights: a P2 vertex function on the axis has a zero r-weighted integral.
+        signed = np.einsum("sqk,sq->sk", mu, g.weights)
+        coverage = np.einsum("sqk,sq->sk", mu**2, g.weights) if self.squared_coverage else signed
+        return CouplingBlocks(ts, g.rows, dofs_c, b_c, dofs_t, b_t, gap, coverage, signed)
 
     def point_weights(
         self, g: PointGroups, x: npt.NDArray[np.floating]

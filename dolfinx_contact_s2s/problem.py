@@ -54,6 +54,9 @@ class ContactProblemBase:
     ``solve``. Usable as a context manager; otherwise call :meth:`destroy`.
     """
 
+    #: Whether the contact conditions read the sign of the weighted gaps (Eq. 1).
+    signed_conditions = False
+
     def __init__(
         self,
         a: ufl.Form | Sequence[ufl.Form],
@@ -110,6 +113,7 @@ class ContactProblemBase:
             default_options=self.solver_defaults(),
             form_compiler_options=form_compiler_options,
             jit_options=jit_options,
+            signed=self.signed_conditions,
         )
 
     def solver_defaults(self) -> dict[str, typing.Any]:

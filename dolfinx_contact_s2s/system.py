@@ -108,8 +108,9 @@ class ContactSystem:
         default_options: dict[str, typing.Any] | None = None,
         form_compiler_options: dict | None = None,
         jit_options: dict | None = None,
+        signed: bool = False,
     ):
-        """Set up the forms, the solution functions and the solver.
+        r"""Set up the forms, the solution functions and the solver.
 
         Args:
             a: Bilinear form of each displacement space (a single form for one space).
@@ -125,12 +126,16 @@ class ContactSystem:
             default_options: Solver defaults; :data:`DEFAULT_OPTIONS` if None.
             form_compiler_options: Passed to :func:`dolfinx.fem.form`.
             jit_options: Passed to :func:`dolfinx.fem.form`.
+            signed: Whether the contact conditions read the sign of :math:`\int \mu_k g`
+                (unilateral, friction): the multipliers of
+                :attr:`~dolfinx_contact_s2s.assemble.CouplingOperator.unsigned` are left out.
 
         Raises:
             ValueError: On every rank, for inconsistent input or a mesh with NaN or
                 infinite coordinates.
         """
         a, L = _as_list(a), _as_list(L)
+        self.signed = bool(signed)
         self.spaces = system_checks.check_forms(a, L, kind)
         self.comm: MPI.Comm = self.spaces[0].mesh.comm
         system_checks.check_coordinates(self.spaces)
@@ -382,6 +387,8 @@ class ContactSystem:
             check_stiffness(self.spaces, self._K, self._masks, self._labels)
         with self.timed("contact"):
             self.operators = [self._coupling(pair) for pair in self.pairs]
+            for op in self.operators if self.signed else []:
+                op.uncovered = np.union1d(op.uncovered, op.unsigned).astype(np.int64)
         for j, op in enumerate(self.operators):
             if op.uncovered.size:
                 logger.info(

@@ -278,9 +278,10 @@ def test_partly_covered_multipliers(degree):
     whole = (lo >= 0.5 - 1e-12) & (hi <= 2.0 + 1e-12)
     none = lo >= 2.3 - 1e-12
     np.testing.assert_array_equal(np.sort(op.partial), np.flatnonzero(~whole))
-    if degree == 1:
-        # P2 vertex functions: the signed integral over a covered part can vanish (see
-        # tests/test_overhang_p2.py).
-        np.testing.assert_array_equal(np.sort(op.uncovered), np.flatnonzero(none))
+    np.testing.assert_array_equal(np.sort(op.uncovered), np.flatnonzero(none))
+    # P2: the vertex functions at 0 and 2.5 integrate to h f^2 (2f/3 - 1/2) < 0 over the
+    # fraction f = 0.6 of their cut facet that the target covers (away from them).
+    unsigned = np.isclose(x, 0.0) | np.isclose(x, 2.5) if degree == 2 else np.zeros_like(none)
+    np.testing.assert_array_equal(np.sort(op.unsigned), np.flatnonzero(unsigned))
     assert np.count_nonzero(whole) == (2 if degree == 1 else 5)
     op.destroy()

@@ -17,10 +17,12 @@ against every test function there: the load vector is exact.
 Every multiplier whose support meets :math:`[s, W]` must stay, and equal :math:`p`. A
 P2 vertex function :math:`\phi(\xi) = \xi(2\xi - 1)` (:math:`\xi = 1` at :math:`b`)
 integrates to :math:`f^2(2f/3 - 1/2) \le 0` over the covered part for :math:`f \le
-3/4`: with the coverage :math:`\int \mu_k` on edges
-(:meth:`~dolfinx_contact_s2s.pair.ContactPair._integrate`,
-:meth:`~dolfinx_contact_s2s.pair.ContactPair.multiplier_supports`), the multiplier at
-:math:`b` is called uncovered and pinned to zero, and the patch test fails.
+3/4`: measured by :math:`\int \mu_k` (as it was on edges), the multiplier at
+:math:`b` would be called uncovered and pinned to zero, and the patch test fail. On
+quadratic edges the coverage is :math:`\int \mu_k^2`
+(:attr:`~dolfinx_contact_s2s.pair.ContactPair.squared_coverage`); tied contact keeps the
+multiplier (unilateral contact leaves it out:
+:attr:`~dolfinx_contact_s2s.assemble.CouplingOperator.unsigned`).
 """
 
 from mpi4py import MPI
@@ -219,20 +221,9 @@ def check(result: dict) -> None:
 
 @pytest.mark.parametrize(
     "degree, upper_elements",
-    [(1, 8), (1, 7), (2, 6)],
-    ids=["P1-f0.4", "P1-f0.6", "P2-f0.8"],
+    [(1, 8), (1, 7), (2, 8), (2, 7), (2, 6)],
+    ids=["P1-f0.4", "P1-f0.6", "P2-f0.4", "P2-f0.6", "P2-f0.8"],
 )
 def test_target_end_inside_facet(degree, upper_elements):
-    """P1 at any fraction, P2 covering more than 3/4 of the cut facet: exact."""
+    """The target's end inside a contactor facet, at any fraction: exact."""
     check(overhang_patch(degree, upper_elements))
-
-
-@pytest.mark.xfail(
-    strict=True,
-    reason="on edges the coverage is the integral of mu_k (not mu_k^2, as on faces): a P2 "
-    "vertex function integrates to f^2 (2f/3 - 1/2) <= 0 over a covered fraction f <= 3/4 "
-    "of its facet, so the multiplier at the cut facet's far vertex is pinned to zero",
-)
-@pytest.mark.parametrize("upper_elements", [8, 7], ids=["f0.4", "f0.6"])
-def test_target_end_inside_facet_p2(upper_elements):
-    check(overhang_patch(2, upper_elements))

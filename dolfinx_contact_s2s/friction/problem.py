@@ -89,6 +89,8 @@ class FrictionalContactProblem(ContactProblemBase):
     with the sets of every iteration.
     """
 
+    signed_conditions = True
+
     def __init__(
         self,
         a: ufl.Form | Sequence[ufl.Form],

@@ -78,6 +78,8 @@ class UnilateralContactProblem(ContactProblemBase):
     with its history. A ``monitor`` sees every linear solve as it is recorded.
     """
 
+    signed_conditions = True
+
     def __init__(
         self,
         a: ufl.Form | Sequence[ufl.Form],
