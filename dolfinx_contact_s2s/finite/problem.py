@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 from mpi4py import MPI
 from petsc4py import PETSc
 
+import basix
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
@@ -171,7 +172,7 @@ class NonlinearContactProblem:
     call :meth:`solve` again; each solve starts from the current :math:`\mathbf u_i`.
 
     Every iteration checks its linear solve as the linear problems do; a Newton step that
-    would invert a cell (:math:`\det F \le 0` at its midpoint) is halved, and an
+    would invert a cell (:math:`\det F \le 0` at a vertex or Gauss point) is halved, and an
     inverted start raises, naming the cell; a solve that does not converge raises
     :class:`NonlinearConvergenceError` with its iterations (:attr:`step`).
     """
@@ -281,15 +282,19 @@ class NonlinearContactProblem:
         self._sizes = [_size(p.contactor, self.comm) for p in self.problem.pairs]
 
     @staticmethod
-    def _det_form(u: dolfinx.fem.Function) -> tuple[dolfinx.fem.Function, dolfinx.fem.Expression]:
-        r""":math:`\det(I + \nabla u)` at the cells' midpoints (a DG0 function and its rule)."""
+    def _det_form(u: dolfinx.fem.Function) -> dolfinx.fem.Expression:
+        r""":math:`\det(I + \nabla u)` at the cells' vertices and Gauss points of degree 2p.
+
+        Not the midpoint only: on quadratic cells det F varies, and a cell inverted at a
+        quadrature point of the forms gives them NaN.
+        """
         mesh = u.function_space.mesh
-        W = dolfinx.fem.functionspace(mesh, ("DG", 0))
-        points = W.element.interpolation_points
-        points = points() if callable(points) else points
+        cell = basix.CellType[mesh.topology.cell_name()]
+        degree = u.function_space.element.basix_element.degree
+        points, _ = basix.make_quadrature(cell, 2 * degree)
+        points = np.vstack([basix.geometry(cell), points])
         gdim = mesh.geometry.dim
-        expression = dolfinx.fem.Expression(ufl.det(ufl.Identity(gdim) + ufl.grad(u)), points)
-        return dolfinx.fem.Function(W), expression
+        return dolfinx.fem.Expression(ufl.det(ufl.Identity(gdim) + ufl.grad(u)), points)
 
     @property
     def comm(self) -> MPI.Comm:
@@ -314,15 +319,16 @@ class NonlinearContactProblem:
     def _inverted(self) -> list:
         """Per process, up to three (space, local cell) with det F <= 0 (collective)."""
         bad = []
-        for i, (det, expression) in enumerate(self._jacobians):
-            det.interpolate(expression)
-            n = det.function_space.dofmap.index_map.size_local
-            cells = np.flatnonzero(~(det.x.array[:n] > 0.0))
+        for i, (ui, expression) in enumerate(zip(self.u, self._jacobians, strict=True)):
+            mesh = ui.function_space.mesh
+            n = mesh.topology.index_map(mesh.topology.dim).size_local
+            det = expression.eval(mesh, np.arange(n, dtype=np.int32)).reshape(n, -1)
+            cells = np.flatnonzero(~np.all(det > 0.0, axis=1))
             bad += [(i, int(c)) for c in cells[:3]]
         return self.comm.allgather(bad)
 
     def check_cells(self) -> None:
-        r"""Raise on every rank if some cell has :math:`\det F \le 0` at its midpoint."""
+        r"""Raise on every rank if some cell has :math:`\det F \le 0` (:meth:`_det_form`)."""
         found = self._inverted()
         if any(found):
             raise ValueError(

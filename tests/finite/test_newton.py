@@ -192,6 +192,23 @@ def test_inverted_cells_and_slow_steps_raise():
         NonlinearContactProblem(F, u, [pair], bcs, contact="sliding", petsc_options_prefix="x_")
 
 
+def test_inverted_at_a_vertex_only():
+    """P2: det F = 1 - 2 a x <= 0 at the cells' vertices on x = 2 only, not at a midpoint."""
+    scene = SlidingScene(2)
+    lower = scene.u[0]
+    a = 0.2515  # det F = 0 at x = 1.988, right of every centroid, left of x = 2
+    lower.interpolate(lambda x: np.stack([-a * x[0] ** 2, 0.0 * x[0]]))
+    mesh = lower.function_space.mesh
+    n = mesh.topology.index_map(2).size_local
+    centroids = dolfinx.mesh.compute_midpoints(mesh, 2, np.arange(n, dtype=np.int32))
+    assert comm.allreduce(bool(np.all(1 - 2 * a * centroids[:, 0] > 0)), op=MPI.LAND)
+    with NonlinearContactProblem(
+        scene.F, scene.u, [scene.pair()], scene.bcs, petsc_options_prefix="vertex_nl_"
+    ) as problem:
+        with pytest.raises(ValueError, match=r"inverts cells \(det F <= 0\): process"):
+            problem.solve()
+
+
 def test_tangent_against_moving_one_dof():
     """H and D (every cell of a surface moved at once, group by group) against moving
     one displacement dof at a time and assembling the whole coupling again."""
