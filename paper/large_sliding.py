@@ -308,11 +308,13 @@ def ironing(
     press_steps: int = 14,
     slide_steps: int = 40,
     log: typing.Callable[[str], None] | None = None,
+    contactor: str = "block",
 ) -> dict[str, typing.Any]:
     """The ironing study on triangles of size ``h``: the die's force at every step.
 
-    Newton with the full tangent for either method. The block's top carries the
-    multiplier (contactor), the die's outer arc is the target.
+    Newton with the full tangent for either method. ``contactor``: the surface that
+    carries the multiplier, ``"block"`` (its top; the die's outer arc is the target) or
+    ``"die"`` (its outer arc, on the block's top).
 
     Returns:
         ``s`` and ``d`` (the die's slide and press), ``fx`` and ``fy`` (the force on the
@@ -335,11 +337,10 @@ def ironing(
         dolfinx.fem.dirichletbc(dolfinx.fem.Function(V), clamped),
         dolfinx.fem.dirichletbc(motion, held),
     ]
-    pair = contact_pair(
-        contact_surface(V, facet_tags, BLOCK_TOP),
-        contact_surface(V, facet_tags, DIE_ARC),
-        method=method,
-    )
+    surfaces = [contact_surface(V, facet_tags, tag) for tag in (BLOCK_TOP, DIE_ARC)]
+    if contactor not in ("block", "die"):
+        raise ValueError(f"contactor must be 'block' or 'die', not {contactor!r}")
+    pair = contact_pair(*(surfaces if contactor == "block" else surfaces[::-1]), method=method)
     linearization = "full"
     press, slide = IRONING["press"], IRONING["slide"]
     path = [(0.0, press * k / press_steps) for k in range(1, press_steps + 1)]
@@ -354,7 +355,7 @@ def ironing(
         bcs,
         linearization=linearization,
         max_iterations=80,
-        petsc_options_prefix=f"ironing_{method[:4]}_",
+        petsc_options_prefix=f"ironing_{method[:4]}_{contactor}_",
     ) as problem:
         for s, d in path:
             motion.x.array.reshape(-1, 2)[:] = [s, -d]
@@ -376,9 +377,12 @@ def ironing(
         scene="ironing",
         h=h,
         method=method,
+        contactor=contactor,
         linearization=linearization,
         unknowns=2 * V.dofmap.index_map.size_global,
-        contact_facets=comm.allreduce(int(facet_tags.find(BLOCK_TOP).size), op=MPI.SUM),
+        contact_facets=comm.allreduce(
+            int(facet_tags.find(BLOCK_TOP if contactor == "block" else DIE_ARC).size), op=MPI.SUM
+        ),
         oscillation=oscillation(record),
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
     )
