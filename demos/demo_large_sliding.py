@@ -34,9 +34,10 @@
 # Checked: the patch test's pressure and displacement within $10^{-9}$ at every slide
 # (segment-to-segment), node-to-segment off by more than $10^{-4}$; Newton's measured
 # order above 1.8 (`NewtonStep.orders`: settled iterations) on every slide step of the P1
-# and P2 patch tests; every ironing step converged. The ironing oscillations are reported, not asserted. The exit status
-# is non-zero if a check fails. It writes `results/large_sliding.json`,
-# `results/ironing.png` and the section "large-sliding" of `results/report.md`. Run it as
+# and P2 patch tests; every ironing step converged. The ironing oscillations are
+# reported, not asserted. The exit status is non-zero if a check fails. It writes
+# `results/large_sliding.json`, `results/ironing.png` and the section "large-sliding" of
+# `results/report.md`. Run it as
 # `python3 demos/demo_large_sliding.py` or with `mpirun -n 2`; `--smoke` runs P1 only and
 # the ironing at $h = 0.6$ with 20 slide steps.
 
