@@ -18,7 +18,8 @@ the die's top ends are pressed down by 1.4, then moved along :math:`x` by 4,
 frictionless. The force on the die's top ends is recorded at every step. Its vertical
 component's oscillation over the steady slide (:math:`1 \le s \le 3`, the contact zone
 away from the block's ends) is measured as the range of its deviation from a least-squares
-quadratic in :math:`s`, over its mean: a smooth force has none.
+quadratic in :math:`s`, over its mean: a smooth force has none; the horizontal one's
+from a cubic, over the same mean.
 """
 
 from __future__ import annotations
@@ -318,8 +319,9 @@ def ironing(
 
     Returns:
         ``s`` and ``d`` (the die's slide and press), ``fx`` and ``fy`` (the force on the
-        die's top ends), ``iterations`` and ``orders`` per step, ``oscillation`` (see
-        :func:`oscillation`), ``unknowns``, ``contact_facets`` and ``seconds``.
+        die's top ends), ``iterations`` and ``orders`` per step, ``oscillation`` and
+        ``horizontal_oscillation`` (see :func:`oscillation`), ``unknowns``,
+        ``contact_facets`` and ``seconds``.
     """
     begin = time.perf_counter()
     mesh, cell_tags, facet_tags = ironing_mesh(comm, h)
@@ -384,23 +386,25 @@ def ironing(
             int(facet_tags.find(BLOCK_TOP if contactor == "block" else DIE_ARC).size), op=MPI.SUM
         ),
         oscillation=oscillation(record),
+        horizontal_oscillation=oscillation(record, "fx"),
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
     )
     return record
 
 
-def oscillation(record: dict[str, typing.Any]) -> float:
-    """The vertical force's oscillation over the steady slide (see the module's text).
+def oscillation(record: dict[str, typing.Any], component: str = "fy") -> float:
+    """A force component's oscillation over the steady slide (see the module's text).
 
-    The range of ``fy`` minus its least-squares quadratic in ``s``, over the pressed
-    steps with ``s`` in :data:`IRONING`'s ``"steady"`` window, divided by the mean of
-    ``|fy|`` there.
+    The range of ``component`` (``"fy"`` or ``"fx"``) minus its least-squares cubic in
+    ``s``, over the pressed steps with ``s`` in :data:`IRONING`'s ``"steady"`` window,
+    divided by the mean of ``|fy|`` there (the horizontal force changes sign). A
+    quadratic for ``fy``, symmetric about the middle of the slide.
     """
-    s, fy, d = (np.asarray(record[k]) for k in ("s", "fy", "d"))
+    s, f, fy, d = (np.asarray(record[k]) for k in ("s", component, "fy", "d"))
     low, high = IRONING["steady"]
     window = (d == IRONING["press"]) & (s >= low - 1e-12) & (s <= high + 1e-12)
-    if np.count_nonzero(window) < 4:
+    if np.count_nonzero(window) < 5:
         return math.nan
-    x, y = s[window], fy[window]
-    deviation = y - np.polyval(np.polyfit(x, y, 2), x)
-    return float(np.ptp(deviation) / np.mean(np.abs(y)))
+    x, y = s[window], f[window]
+    deviation = y - np.polyval(np.polyfit(x, y, 2 if component == "fy" else 3), x)
+    return float(np.ptp(deviation) / np.mean(np.abs(fy[window])))
