@@ -78,22 +78,25 @@ def lame(E: float, nu: float) -> tuple[float, float]:
 
 
 def neo_hookean(u: dolfinx.fem.Function, E: float, nu: float) -> ufl.core.expr.Expr:
-    r"""The stored energy density of a compressible neo-Hookean solid in plane strain.
+    r"""The stored energy density of a compressible neo-Hookean solid (plane strain in 2D).
 
-    :math:`\psi = \frac{\mu}{2}(\operatorname{tr} C + 1 - 3) - \mu \ln J + \frac{\lambda}{2}
-    (\ln J)^2` (a user's own energy: the package takes any residual form).
+    :math:`\psi = \frac{\mu}{2}(\operatorname{tr} C - 3) - \mu \ln J + \frac{\lambda}{2}
+    (\ln J)^2`, with :math:`C_{33} = 1` in 2D (a user's own energy: the package takes any
+    residual form).
     """
     mu, lmbda = lame(E, nu)
-    F = ufl.Identity(2) + ufl.grad(u)
+    d = len(u)
+    F = ufl.Identity(d) + ufl.grad(u)
     J = ufl.det(F)
-    return mu / 2 * (ufl.tr(F.T * F) + 1 - 3) - mu * ufl.ln(J) + lmbda / 2 * ufl.ln(J) ** 2
+    return mu / 2 * (ufl.tr(F.T * F) + 3 - d - 3) - mu * ufl.ln(J) + lmbda / 2 * ufl.ln(J) ** 2
 
 
 def stretch(E: float, nu: float, p: float) -> float:
-    r"""The stretch of uniaxial strain :math:`F = \mathrm{diag}(1, \beta)` with :math:`P_{yy} = -p`.
+    r"""The stretch :math:`\beta` of uniaxial strain with nominal stress :math:`-p` along it.
 
-    :math:`P_{yy} = \mu (\beta - 1/\beta) + \lambda \ln\beta / \beta` (closed form, solved
-    by bracketing).
+    :math:`F = \mathrm{diag}(1, \beta)` (2D) or :math:`\mathrm{diag}(1, 1, \beta)` (3D);
+    :math:`P = \mu (\beta - 1/\beta) + \lambda \ln\beta / \beta` in both (closed form,
+    increasing in :math:`\beta`, solved by bracketing).
     """
     mu, lmbda = lame(E, nu)
     return scipy.optimize.brentq(

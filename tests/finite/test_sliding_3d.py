@@ -11,12 +11,12 @@ nominal stress
 
     P_zz(beta) = mu (beta - 1 / beta) + lambda ln(beta) / beta = -P
 
-of psi = mu / 2 (tr C - 3) - mu ln J + lambda / 2 (ln J)^2 (solved here by a scalar root
-find). The pressure on the top is a dead load: no lateral stretch and a horizontal top,
-so the nominal load is the Cauchy one, and the Cauchy stress sigma_zz = P_zz. The part of
-the lower top the upper block leaves open carries P too (whole lower facets: slides are
-whole lower elements). The contact pressure, the Cauchy traction on the current
-contactor (the upper bottom), is P at every step.
+of psi = mu / 2 (tr C - 3) - mu ln J + lambda / 2 (ln J)^2 (``paper.large_sliding``'s
+energy and root find, as in 2D). The pressure on the top is a dead load: no lateral
+stretch and a horizontal top, so the nominal load is the Cauchy one, and the Cauchy
+stress sigma_zz = P_zz. The part of the lower top the upper block leaves open carries P
+too (whole lower facets: slides are whole lower elements). The contact pressure, the
+Cauchy traction on the current contactor (the upper bottom), is P at every step.
 
 P1 on hexahedra (6 x 2 x 1 upper against 21 x 3 x 1 lower cells). P2 on tetrahedra with a
 quadratic geometry (``curved_mesh``: the surfaces follow X + u only with the geometry of
@@ -29,12 +29,12 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import pytest
-import scipy.optimize
 import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.finite import NonlinearContactProblem
 from dolfinx_contact_s2s.meshing import curved_mesh
+from paper.large_sliding import neo_hookean, stretch
 
 comm = MPI.COMM_WORLD
 
@@ -49,35 +49,6 @@ CELLS = {
 }
 #: Facet tags: bottom, top, the x-faces and the y-faces.
 BOTTOM, TOP, LEFT, RIGHT, FRONT, BACK = 1, 2, 3, 4, 5, 6
-
-
-def lame(E: float, nu: float) -> tuple[float, float]:
-    """Lamé's constants (mu, lambda)."""
-    return E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))
-
-
-def neo_hookean(u: dolfinx.fem.Function, E: float, nu: float) -> ufl.core.expr.Expr:
-    r"""The stored energy of a compressible neo-Hookean solid in 3D.
-
-    :math:`\psi = \frac{\mu}{2}(\operatorname{tr} C - 3) - \mu \ln J + \frac{\lambda}{2}
-    (\ln J)^2`.
-    """
-    mu, lmbda = lame(E, nu)
-    F = ufl.Identity(3) + ufl.grad(u)
-    J = ufl.det(F)
-    return mu / 2 * (ufl.tr(F.T * F) - 3) - mu * ufl.ln(J) + lmbda / 2 * ufl.ln(J) ** 2
-
-
-def stretch(E: float, nu: float, p: float) -> float:
-    r"""The stretch of uniaxial strain :math:`F = \mathrm{diag}(1, 1, \beta)`, :math:`P_{zz} = -p`.
-
-    :math:`P_{zz} = \partial \psi / \partial \beta = \mu (\beta - 1/\beta) + \lambda
-    \ln\beta / \beta`, increasing in :math:`\beta`: one root in (0, 1) for :math:`p > 0`.
-    """
-    mu, lmbda = lame(E, nu)
-    return scipy.optimize.brentq(
-        lambda b: mu * (b - 1 / b) + lmbda * np.log(b) / b + p, 0.1, 1.0, xtol=1e-16, rtol=1e-15
-    )
 
 
 def block(k: int, cell: str, degree: int):
