@@ -1,10 +1,10 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""MUMPS's Schur complement (ICNTL(19)) through the PETSc library petsc4py runs on.
+"""MUMPS's Schur complement (ICNTL(19)) and selected entries of the inverse (ICNTL(30)).
 
-petsc4py (3.22 to 3.25) does not expose ``MatFactorSetSchurIS`` and
-``MatFactorCreateSchurComplement``: a thin ctypes binding to the PETSc library that
-petsc4py itself loaded, through the objects' handles.
+petsc4py (3.22 to 3.25) does not expose ``MatFactorSetSchurIS``,
+``MatFactorCreateSchurComplement`` and ``MatMumpsGetInverseTranspose``: a thin ctypes
+binding to the PETSc library that petsc4py itself loaded, through the objects' handles.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from petsc4py import PETSc
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["schur_complement", "set_schur_indices"]
+__all__ = ["inverse_block", "schur_complement", "set_schur_indices"]
 
 
 def _petsc_library() -> ctypes.CDLL:
@@ -41,6 +41,7 @@ def _petsc_library() -> ctypes.CDLL:
             "MatDenseGetLDA": [ctypes.c_void_p, ctypes.c_void_p],
             "MatGetSize": [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p],
             "MatDestroy": [ctypes.POINTER(ctypes.c_void_p)],
+            "MatMumpsGetInverseTranspose": [ctypes.c_void_p, ctypes.c_void_p],
         }.items():
             function = getattr(library, name)
             function.argtypes = argtypes
@@ -101,3 +102,44 @@ def schur_complement(F: PETSc.Mat) -> npt.NDArray[np.floating]:
         # A symmetric factorization returns one triangle.
         dense = lower + lower.T + upper + upper.T + np.diag(np.diag(dense))
     return dense
+
+
+def inverse_block(F: PETSc.Mat, rows: npt.NDArray[np.int64]) -> npt.NDArray[np.floating]:
+    r"""The block :math:`(\mathbf A^{-1})_{ss}` of a factorized MUMPS matrix, on every process.
+
+    MUMPS's selected entries of the inverse (ICNTL(30)): sparse right-hand sides whose
+    solves touch only the paths of the elimination tree they need (363 x 363 entries of
+    a factor of 491,575 unknowns: 0.06 s against 2.3 s for the factorization). In parallel
+    the factor must have solved once before: PETSc makes the scatter of a distributed
+    solution at the first solve, and a first solve after this call hangs. Collective.
+
+    Args:
+        F: The factor (LU or Cholesky), after a solve.
+        rows: The rows :math:`s` (global, sorted, the same on every process).
+    """
+    comm = F.getComm().tompi4py()
+    size, m = F.getSize()[0], rows.size
+    own = size if comm.rank == 0 else 0
+    indptr = np.zeros(own + 1, dtype=PETSc.IntType)
+    indices = np.zeros(0, dtype=PETSc.IntType)
+    if comm.rank == 0:
+        counts = np.zeros(size, dtype=PETSc.IntType)
+        counts[rows] = m
+        indptr[1:] = np.cumsum(counts)
+        indices = np.tile(rows, m).astype(PETSc.IntType)
+    # The requested entries on process 0: its diagonal block is the whole matrix.
+    pattern = PETSc.Mat().createAIJ(
+        [[own, size], [own, size]], csr=(indptr, indices, np.zeros(indices.size)), comm=comm
+    )
+    saved = {k: F.getMumpsIcntl(k) for k in (20, 21, 30)}
+    try:
+        _call("MatMumpsGetInverseTranspose", F.handle, pattern.handle)
+    finally:
+        for k, v in saved.items():  # ICNTL(30) left at 1 makes the next solve fail
+            F.setMumpsIcntl(k, v)
+    block = None
+    if comm.rank == 0:
+        # Row r_i of the pattern holds (A^{-T})_{r_i r_j}: the block of A^{-1}, transposed.
+        block = pattern.getValuesCSR()[2].reshape(m, m).T.copy()
+    pattern.destroy()
+    return comm.bcast(block, root=0)

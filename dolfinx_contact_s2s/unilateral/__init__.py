@@ -11,15 +11,19 @@ The contact conditions of Eq. (1), :math:`g \ge 0`, :math:`\lambda \ge 0`,
     \mathbf N + g_0\right] d\Gamma = (\mathbf B \mathbf U + \mathbf G)_j, \qquad
     \lambda_j \ge 0, \quad \tilde g_j \ge 0, \quad \lambda_j \tilde g_j = 0,
 
-with every discretization of the coupling. Four algorithms share one interface
+with every discretization of the coupling. Five algorithms share one interface
 (:class:`UnilateralContactProblem`), one module each (:mod:`.active_set`,
-:mod:`.snes_vi`, :mod:`.penalty`):
+:mod:`.condensed`, :mod:`.snes_vi`, :mod:`.penalty`):
 
 - ``"active-set"``: semismooth Newton on the complementarity function
   :math:`C_j = \lambda_j - \max(0, \lambda_j - c_j \tilde g_j)` (the primal-dual active
   set method). For linear elastic bodies every iteration is one saddle-point solve of
   Eq. (18) with the inactive multipliers set to zero, and the iteration ends when the
   active set repeats, which makes :math:`C = 0` up to round-off.
+- ``"condensed-active-set"``: the same iterations (the same sets, the same answer) from
+  one factorization of the tied saddle point instead of one per iteration: the
+  multiplier block of its inverse (MUMPS's selected entries of the inverse) turns every
+  active set into a dense solve on the multipliers. Linear bodies and MUMPS only.
 - ``"snes-vi"``: the same mixed complementarity problem handed to PETSc's reduced-space
   variational-inequality Newton method (``SNESVINEWTONRSLS``) with the bounds
   :math:`\lambda \ge 0` and free displacements.

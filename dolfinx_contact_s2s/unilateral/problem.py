@@ -28,7 +28,7 @@ from dolfinx_contact_s2s.checks.inputs import check_inequality_multipliers
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.problem import ContactProblemBase
 from dolfinx_contact_s2s.system import DEFAULT_OPTIONS
-from dolfinx_contact_s2s.unilateral import active_set, penalty, snes_vi
+from dolfinx_contact_s2s.unilateral import active_set, condensed, penalty, snes_vi
 from dolfinx_contact_s2s.unilateral.complementarity import Complementarity, given_active
 from dolfinx_contact_s2s.unilateral.history import ContactHistory, Iteration, LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
@@ -36,7 +36,7 @@ from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 __all__ = ["ALGORITHMS", "DEFAULT_PENALTY", "STARTS", "UnilateralContactProblem"]
 
 #: The solution algorithms (see the package docstring).
-ALGORITHMS = ("active-set", "snes-vi", "penalty", "augmented-lagrangian")
+ALGORITHMS = ("active-set", "condensed-active-set", "snes-vi", "penalty", "augmented-lagrangian")
 
 #: First active set of the first load step: the multipliers of the nearest points
 #: (smallest initial gap, and every penetration; then the next nearest until the set
@@ -49,6 +49,7 @@ STARTS = ("nearest", "tied", "gap")
 #: Default factor :math:`\kappa` of :math:`\varepsilon = \kappa \bar E / h`, by algorithm.
 DEFAULT_PENALTY = {
     "active-set": 1.0,
+    "condensed-active-set": 1.0,
     "snes-vi": 1.0,
     "penalty": 100.0,
     # 100, not 10: a quadrilateral/triangle patch test took 17 updates at 10, 8 at 100.
@@ -134,8 +135,8 @@ class UnilateralContactProblem(ContactProblemBase):
             raise ValueError(f"algorithm must be one of {ALGORITHMS}, not {algorithm!r}")
         if start not in STARTS:
             raise ValueError(f"start must be one of {STARTS}, not {start!r}")
-        if algorithm == "snes-vi" and options.get("kind", "aij") != "aij":
-            raise ValueError("the 'snes-vi' algorithm needs kind='aij'")
+        if algorithm in ("snes-vi", "condensed-active-set") and options.get("kind", "aij") != "aij":
+            raise ValueError(f"the {algorithm!r} algorithm needs kind='aij'")
         if penalty is None:
             penalty = DEFAULT_PENALTY[algorithm]
         if not (penalty > 0 and np.isfinite(penalty)):
@@ -235,21 +236,30 @@ class UnilateralContactProblem(ContactProblemBase):
             self._monitor,
         )
         self.history = run.history
+        # One factorization for every step: made here, with the tied system assembled.
+        condensed_run = None
+        if self.algorithm == "condensed-active-set":
+            condensed_run = condensed.CondensedActiveSet(run)
         step_solver: Callable[..., list[npt.NDArray[np.bool_]]] = {
             "active-set": active_set.solve_step,
+            "condensed-active-set": getattr(condensed_run, "solve_step", None),
             "snes-vi": snes_vi.solve_step,
             "penalty": penalty.solve_step,
             "augmented-lagrangian": lambda *args: penalty.solve_step(*args, augmented=True),
         }[self.algorithm]
         active: list[npt.NDArray[np.bool_]] | None = None
-        for t in loads:
-            step = LoadStep(t)
-            self.history.steps.append(step)
-            begin = time.perf_counter()
-            if active is None:
-                active = comp.first_active(t, self.start, given)
-            active = step_solver(run, step, active)
-            step.seconds = time.perf_counter() - begin
+        try:
+            for t in loads:
+                step = LoadStep(t)
+                self.history.steps.append(step)
+                begin = time.perf_counter()
+                if active is None:
+                    active = comp.first_active(t, self.start, given)
+                active = step_solver(run, step, active)
+                step.seconds = time.perf_counter() - begin
+        finally:
+            if condensed_run is not None:
+                condensed_run.destroy()
         assert active is not None
         self._finish(comp, active)
         return self.u, self.multipliers

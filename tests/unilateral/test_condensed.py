@@ -1,0 +1,184 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+"""The condensed active set: the loop's answer from one factorization.
+
+References from outside the condensed code: the ``"active-set"`` loop (a factorization
+and solve of each active set's saddle point), PETSc's count of numeric factorizations,
+and for the selected entries of the inverse, columns of the inverse from plain solves.
+"""
+
+import re
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import numpy as np
+import pytest
+
+from dolfinx_contact_s2s.mumps import inverse_block
+from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+from paper.hertz.study import HertzCase, hertz_model
+
+comm = MPI.COMM_WORLD
+
+
+def _max(values):
+    return comm.allreduce(float(np.max(np.abs(values), initial=0.0)), op=MPI.MAX)
+
+
+def _factorizations():
+    """Numeric factorizations so far in this process (Cholesky and LU)."""
+    return sum(
+        PETSc.Log.Event(name).getPerfInfo()["count"]
+        for name in ("MatCholFctrNum", "MatLUFactorNum")
+    )
+
+
+def _solve(model, algorithm, loads, **options):
+    pair = model.pair()
+    PETSc.Log.begin()
+    with UnilateralContactProblem(
+        model.a,
+        model.L,
+        [pair],
+        model.bcs,
+        petsc_options_prefix=f"cond_{algorithm.replace('-', '_')}_",
+        algorithm=algorithm,
+        max_iterations=100,
+        **options,
+    ) as problem:
+        # The assembly's checks factorize too (once per assembly, as every solve does).
+        before = _factorizations()
+        problem.assemble()
+        checks = _factorizations() - before
+        problem.solve(loads)
+        n = pair.Q.dofmap.index_map.size_local
+        nu = model.V.dofmap.index_map.size_local * model.V.dofmap.index_map_bs
+        sets = [
+            [tuple(tuple(s.tolist()) for s in it.active_sets) for it in step.iterations]
+            for step in problem.history.steps
+        ]
+        return {
+            "u": problem.u[0].x.array[:nu].copy(),
+            "lam": problem.multipliers[0].x.array[:n].copy(),
+            "active": problem.active[0].x.array[:n].copy(),
+            "sets": sets,
+            "factorizations": _factorizations() - before - 2 * checks,
+        }
+
+
+@pytest.mark.parametrize(
+    "degree, cell", [(1, "triangle"), (1, "quadrilateral"), (2, "quadrilateral")]
+)
+def test_same_sets_and_answer_as_the_loop(degree, cell):
+    """Hertz over two load steps: every active set, the pressure and u as the loop's.
+
+    The cylinder is held by contact alone (its stiffness is singular), which a Schur
+    complement on the multipliers could not handle; the loop factorizes every active
+    set's saddle point, the condensed solve the tied one once.
+    """
+    model = hertz_model(HertzCase(degree=degree, cell=cell, elements_across=12))
+    loads = [0.4, 1.0]
+    loop = _solve(model, "active-set", loads)
+    condensed = _solve(model, "condensed-active-set", loads)
+    assert condensed["sets"] == loop["sets"]
+    assert _max(condensed["active"] - loop["active"]) == 0.0
+    assert _max(condensed["lam"] - loop["lam"]) <= 1e-10 * _max(loop["lam"])
+    assert _max(condensed["u"] - loop["u"]) <= 1e-10 * _max(loop["u"])
+    iterations = sum(len(step) for step in loop["sets"])
+    assert iterations > 4  # the premise: many sets, each a factorization in the loop
+    assert loop["factorizations"] >= iterations
+    assert condensed["factorizations"] == 1
+
+
+def _inverse_columns(A, rows):
+    """Columns ``rows`` of the inverse of ``A`` at ``rows``, by one solve each."""
+    ksp = PETSc.KSP().create(comm)
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    ksp.getPC().setType("lu")
+    ksp.getPC().setFactorSolverType("mumps")
+    e, y = A.createVecs()
+    start, end = A.getOwnershipRange()
+    block = np.zeros((rows.size, rows.size))
+    for k, row in enumerate(rows):
+        e.set(0.0)
+        if start <= row < end:
+            e.setValue(row, 1.0)
+        e.assemble()
+        ksp.solve(e, y)
+        mine = (rows >= start) & (rows < end)
+        part = np.zeros(rows.size)
+        part[mine] = y.array_r[rows[mine] - start]
+        block[:, k] = comm.allreduce(part)
+    ksp.destroy()
+    e.destroy()
+    y.destroy()
+    return block
+
+
+@pytest.mark.parametrize("factorization", ["cholesky", "lu"])
+def test_inverse_block_against_solves(factorization):
+    """MUMPS's selected entries of the inverse equal columns of plain solves.
+
+    A nonsymmetric matrix for LU (the block is of the inverse, not of its transpose)
+    and a symmetric indefinite one for Cholesky (:math:`LDL^T`), rows spread over the
+    processes.
+    """
+    n, rng = 60, np.random.default_rng(3)
+    dense = rng.standard_normal((n, n)) + n * np.eye(n)
+    if factorization == "cholesky":
+        dense = dense + dense.T
+        dense[n - 10 :, n - 10 :] = 0.0  # a saddle point's zero block
+    A = PETSc.Mat().createAIJ([n, n], comm=comm)
+    A.setUp()
+    start, end = A.getOwnershipRange()
+    for i in range(start, end):
+        A.setValues(i, np.arange(n, dtype=PETSc.IntType), dense[i])
+    A.assemble()
+    A.setOption(PETSc.Mat.Option.SYMMETRIC, factorization == "cholesky")
+    rows = np.array([2, 7, 31, 50, 55, 59], dtype=np.int64)
+    ksp = PETSc.KSP().create(comm)
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    ksp.getPC().setType(factorization)
+    ksp.getPC().setFactorSolverType("mumps")
+    b, x = A.createVecs()
+    b.set(1.0)
+    ksp.solve(b, x)  # a solve first, as the function asks for
+    block = inverse_block(ksp.getPC().getFactorMatrix(), rows)
+    reference = _inverse_columns(A, rows)
+    assert np.abs(block - reference).max() <= 1e-12 * np.abs(reference).max()
+    assert (
+        np.abs(block - np.linalg.inv(dense)[np.ix_(rows, rows)]).max()
+        <= 1e-12 * np.abs(reference).max()
+    )
+    ksp.solve(b, x)  # the factor still solves
+    r = b.duplicate()
+    A.mult(x, r)
+    r.axpy(-1.0, b)
+    assert r.norm() <= 1e-12 * b.norm()
+    for obj in (ksp, A, b, x, r):
+        obj.destroy()
+
+
+@pytest.mark.parametrize(
+    "options, pattern",
+    [
+        (
+            {"petsc_options": {"pc_type": "jacobi", "ksp_type": "gmres"}},
+            "needs a MUMPS factorization",
+        ),
+        ({"kind": "nest"}, "needs kind='aij'"),
+    ],
+)
+def test_needs_a_mumps_factorization(options, pattern):
+    """Another solver or a nested matrix: a clear error on every rank, not a wrong answer."""
+    model = hertz_model(HertzCase(elements_across=4))
+    message = None
+    try:
+        _solve(model, "condensed-active-set", [1.0], **options)
+    except ValueError as error:
+        message = str(error)
+    messages = comm.allgather(message)
+    assert all(m is not None and re.search(pattern, m) for m in messages), messages
