@@ -271,6 +271,27 @@ if "p11_fieldsplit_3d" in records:
             f"{run['error_pressure']:.1e} | {run['error_displacement']:.1e} |"
         )
     lines += ["", "![P9 and P11](bench/p9_p11_3d.png)"]
+if "p12_unilateral" in records:
+    r = records["p12_unilateral"]
+    lines += [
+        "",
+        "### P12: unilateral contact from one factorization (Hertz, 1 rank)",
+        "",
+        "Whole `problem.solve()` each, the same scene, pair and solver; the condensed answer "
+        "against the loop's (one factorization per iteration).",
+        "",
+        "| unknowns | multipliers | iterations | tied (s) | condensed (s) | loop (s) | "
+        "condensed / tied | loop / tied | same sets | pressure diff. | displacement diff. |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for row in r["rows"]:
+        lines.append(
+            f"| {row['unknowns']:,} | {row['multipliers']} | {row['iterations']} | "
+            f"{row['tied_seconds']:.3g} | {row['condensed_seconds']:.3g} | "
+            f"{row['loop_seconds']:.3g} | {row['ratio']:.2f} | {row['loop_ratio']:.1f} | "
+            f"{row['same_active_sets']} | {row['pressure_difference']:.1e} | "
+            f"{row['displacement_difference']:.1e} |"
+        )
 
 
 def p1_limits(r):
