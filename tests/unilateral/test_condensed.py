@@ -182,3 +182,52 @@ def test_needs_a_mumps_factorization(options, pattern):
         message = str(error)
     messages = comm.allgather(message)
     assert all(m is not None and re.search(pattern, m) for m in messages), messages
+
+
+def test_iterative_loop_starts_warm():
+    """The Schur field split's active-set solves start from the previous solution.
+
+    A Hertz scene held by a prescribed indentation (GAMG needs each body held): the
+    iterative loop (GMRES, rtol 1e-11) ends on the active set and pressure of the
+    condensed direct solve (MUMPS), with its later solves started warm.
+    """
+    import dolfinx
+    import ufl
+
+    from dolfinx_contact_s2s.fieldsplit import iterative_options, use_schur_complement
+
+    case = HertzCase(elements_across=12)
+    model = hertz_model(case)
+    V, scene = model.V, model.scene
+    top = scene.facet_tags.find(scene.tags["upper_top"])
+    top_y = dolfinx.fem.locate_dofs_topological(V.sub(1), 1, top)
+    depth = dolfinx.fem.Constant(V.mesh, -(case.a**2) / case.R1)
+    bcs = [*model.bcs, dolfinx.fem.dirichletbc(depth, top_y, V.sub(1))]
+    L = ufl.inner(dolfinx.fem.Constant(V.mesh, np.zeros(2)), ufl.TestFunction(V)) * ufl.dx
+    out = {}
+    for solver in ("iterative", "direct"):
+        pair = model.pair()
+        options = {"algorithm": "condensed-active-set"}
+        if solver == "iterative":
+            options = {
+                "petsc_options": iterative_options(spaces=1, schur="mass"),
+                "kind": "nest",
+                "tolerance": 1e-6,
+            }
+        with UnilateralContactProblem(
+            model.a, L, [pair], bcs, petsc_options_prefix=f"warm_{solver}_", **options
+        ) as problem:
+            if solver == "iterative":
+                use_schur_complement(problem)
+            problem.solve()
+            n = pair.Q.dofmap.index_map.size_local
+            out[solver] = (
+                problem.multipliers[0].x.array[:n].copy(),
+                problem.active[0].x.array[:n].copy(),
+                problem.history.iterations,
+                problem.solver.getInitialGuessNonzero(),
+            )
+    (lam_it, active_it, solves, warm), (lam, active, _, _) = out["iterative"], out["direct"]
+    assert solves > 2 and warm  # the premise: several active sets, started warm
+    assert _max(active_it - active) == 0.0
+    assert _max(lam_it - lam) <= 1e-6 * _max(lam)
