@@ -12,6 +12,8 @@ This module needs petsc4py and must be imported explicitly.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import numpy.typing as npt
 
@@ -19,7 +21,7 @@ from dolfinx_contact_s2s.system import ContactSystem
 from dolfinx_contact_s2s.unilateral.history import LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 
-__all__ = ["solve_step"]
+__all__ = ["iterate", "solve_step"]
 
 
 def solve_step(
@@ -40,19 +42,41 @@ def solve_step(
             repeats with the residual above the tolerance.
     """
     system, comp = run.system, run.complementarity
-    previous = None
-    for _ in range(run.max_iterations):
+    previous: list[npt.NDArray[np.floating]] = []
+
+    def evaluate(active: list[npt.NDArray[np.bool_]]) -> tuple[list, float]:
         released = comp.released(active)
         system.build(released, load=step.load)
         run.check_active_support(step, released)
-        _warm_start(system, previous)
+        _warm_start(system, previous[-1] if previous else None)
         run.solve_linear(step)
         assert system.x is not None
-        previous = system.x.getArray(readonly=True).copy()
-        z, residual = comp.evaluate(comp.lambdas(), comp.weighted_gaps())
+        previous[:] = [system.x.getArray(readonly=True).copy()]
+        return comp.evaluate(comp.lambdas(), comp.weighted_gaps())
+
+    return iterate(run, step, active, evaluate)
+
+
+def iterate(
+    run: ContactIteration,
+    step: LoadStep,
+    active: list[npt.NDArray[np.bool_]],
+    evaluate: Callable[[list[npt.NDArray[np.bool_]]], tuple[list, float]],
+    finish: Callable[[], None] | None = None,
+) -> list[npt.NDArray[np.bool_]]:
+    r"""The active-set updates around ``evaluate(active) -> (z, residual)``.
+
+    ``evaluate`` solves for an active set and returns :math:`z = \lambda - c \tilde g`
+    and the complementarity residual; ``finish()`` runs once the set has converged.
+    """
+    comp = run.complementarity
+    for _ in range(run.max_iterations):
+        z, residual = evaluate(active)
         new, entered, left = comp.update(active, z)
         run.record(step, active, entered, left, residual)
         if entered == 0 and left == 0 and residual <= run.tolerance:
+            if finish is not None:
+                finish()
             step.converged = True
             return active
         if entered == 0 and left == 0:

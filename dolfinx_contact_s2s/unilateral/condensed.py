@@ -47,6 +47,7 @@ import scipy.linalg
 from dolfinx_contact_s2s.la import add_scaled
 from dolfinx_contact_s2s.mumps import inverse_block
 from dolfinx_contact_s2s.options import mumps_factor
+from dolfinx_contact_s2s.unilateral.active_set import iterate
 from dolfinx_contact_s2s.unilateral.history import LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 
@@ -186,29 +187,16 @@ class CondensedActiveSet:
                 F = mumps_factor(self.system.solver)
                 assert F is not None
                 self.W = inverse_block(F, self.order)
-        for _ in range(run.max_iterations):
+        found: list[tuple[npt.NDArray, npt.NDArray]] = []
+
+        def evaluate(active: list[npt.NDArray[np.bool_]]) -> tuple[list, float]:
             run.check_active_support(step, comp.released(active))
             with self.system.timed("solve"):
                 lam, slack = self._dense(self._gather(active))
-            z, residual = comp.evaluate(self._owned(lam), self._owned(-slack))
-            new, entered, left = comp.update(active, z)
-            run.record(step, active, entered, left, residual)
-            if entered == 0 and left == 0 and residual <= run.tolerance:
-                self._expand(step, lam, slack)
-                step.converged = True
-                return active
-            if entered == 0 and left == 0:
-                run.fail(
-                    f"iteration {len(step.iterations)} at load {step.load:g}: the active set "
-                    f"repeats but the complementarity residual {residual:.2e} is above the "
-                    f"tolerance {run.tolerance:.1e}: the tied system is too ill-conditioned "
-                    "for the tolerance (a tolerance below round-off)"
-                )
-            active = new
-        run.fail(
-            f"the active-set iteration did not converge in {run.max_iterations} iterations "
-            f"at load {step.load:g} (raise max_iterations, or take smaller load steps)"
-        )
+            found[:] = [(lam, slack)]
+            return comp.evaluate(self._owned(lam), self._owned(-slack))
+
+        return iterate(run, step, active, evaluate, lambda: self._expand(step, *found[-1]))
 
     def _expand(self, step: LoadStep, lam: npt.NDArray, slack: npt.NDArray) -> None:
         r"""Solve for :math:`\mathbf U` of the converged set; check Eq. (1) on it."""
