@@ -221,6 +221,11 @@ class ContactSystem:
         self._coupling = assemble_coupling if coupling is None else coupling
         self._extra = extra
 
+    @property
+    def linearized(self) -> bool:
+        """Whether Newton's terms are set (:meth:`set_linearization`)."""
+        return self._extra is not None or self._coupling is not assemble_coupling
+
     def set_solver_setup(self, setup: Callable[[ContactSystem], None] | None) -> None:
         """Call ``setup(self)`` each time the solver is configured for a new system.
 

@@ -85,6 +85,11 @@ class CondensedActiveSet:
                 f"(pc_type 'cholesky' or 'lu', not {pc.getType()!r}, with "
                 "pc_factor_mat_solver_type 'mumps'): use 'active-set' with other solvers"
             )
+        if system.linearized:
+            raise ValueError(
+                "the 'condensed-active-set' algorithm solves linear bodies: finite "
+                "deformation changes the system in every Newton iteration (use 'active-set')"
+            )
         names = [f"lambda{j}" for j in range(len(system.pairs))]
         #: Per pair, the owned global rows of its multipliers in the system.
         self.rows = [system.fields[name].getIndices().astype(np.int64) for name in names]
@@ -129,6 +134,7 @@ class CondensedActiveSet:
         the rigid targets' motions at the load included.
         """
         system, load = self.system, step.load
+        system.load = load  # the weighted gaps read it (the rigid targets' motions)
         b = system.b
         assert b is not None
         b.array[:] = load * self.b1.getArray(readonly=True)

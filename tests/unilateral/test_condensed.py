@@ -231,3 +231,30 @@ def test_iterative_loop_starts_warm():
     assert solves > 2 and warm  # the premise: several active sets, started warm
     assert _max(active_it - active) == 0.0
     assert _max(lam_it - lam) <= 1e-6 * _max(lam)
+
+
+def test_refuses_newtons_linearized_system():
+    """Finite deformation: the system changes in every Newton iteration, a clear error.
+
+    The frozen first iteration of a step is a linear problem the condensed solve takes;
+    the full tangent's is refused on every rank, not solved with a wrong expansion.
+    """
+    from dolfinx_contact_s2s.finite import NonlinearContactProblem
+    from paper.large_sliding import SlidingScene
+
+    scene = SlidingScene(1)
+    message = None
+    try:
+        with NonlinearContactProblem(
+            scene.F,
+            scene.u,
+            [scene.pair()],
+            scene.bcs,
+            petsc_options_prefix="cond_nl_",
+            algorithm="condensed-active-set",
+        ) as problem:
+            problem.solve()
+    except ValueError as error:
+        message = str(error)
+    messages = comm.allgather(message)
+    assert all(m is not None and "solves linear bodies" in m for m in messages), messages
