@@ -415,7 +415,9 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     a function on its mesh: :math:`\mathbf P` is its mass matrix. Node-based methods
     (Eqs. 37-39, ``pair.nodal``) collocate the traction at the nodes, each standing for
     its tributary length :math:`w^i`: :math:`\mathbf P` is the lumped mass matrix, or
-    its inverse when the multiplier is the nodal force (``weight="unit"``). In
+    its inverse when the multiplier is the nodal force (``weight="unit"``). Dual
+    multipliers (:attr:`~dolfinx_contact_s2s.multiplier.MultiplierSpace.dual`): the mass
+    of the dual basis. In
     axisymmetry (``pair.axisymmetric``) every integral carries :math:`2\pi r`,
     :math:`r = x_0` of the multiplier's mesh: the norm over the 3D surface. The caller
     must ``destroy()`` it.
@@ -425,6 +427,17 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     w = 2 * np.pi * ufl.SpatialCoordinate(Q.mesh)[0] if pair.axisymmetric else 1.0
     M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * w * ufl.dx))
     M.assemble()
+    if getattr(pair.multiplier, "dual", False):
+        # int psi_i psi_j on a straight edge of length h: (h / 2) [[2, -1], [-1, 2]], which
+        # is 4 lumped(M) - 3 M with M = (h / 6) [[2, 1], [1, 2]].
+        rows = M.createVecLeft()
+        M.getRowSum(rows)
+        M.scale(-3.0)
+        diagonal = M.getDiagonal()
+        diagonal.axpy(4.0, rows)
+        M.setDiagonal(diagonal)
+        for v in (rows, diagonal):
+            v.destroy()
     if not pair.nodal:
         return M
     D = _lumped(pair, M)

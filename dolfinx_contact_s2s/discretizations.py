@@ -182,6 +182,20 @@ class Discretization:
         """
         if self.own_multiplier and multiplier is not None:
             raise ValueError(f"{self.method} defines its own multiplier space")
+        if (
+            multiplier is not None
+            and multiplier[0] == "Dual"
+            and not (
+                self.method == "segment-to-segment"
+                and quadrature.startswith("composite")
+                and multiplier[1] == 1
+                and contactor.facet_dim == 1
+            )
+        ):
+            raise ValueError(
+                "dual multipliers are implemented as ('Dual', 1) with segment-to-segment "
+                "and a composite rule on 2D contactors only"
+            )
         continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
         s2s = self.method == "segment-to-segment" and quadrature == "composite-gauss"
         if contactor.facet_dim == 2 and not (
@@ -222,8 +236,15 @@ class Discretization:
     def space(self, pair: PairLike) -> MultiplierSpace:
         """The multiplier space of ``pair`` (Eq. 16 on the contactor facets)."""
         variant = pair.multiplier_variant
+        dual = getattr(pair, "dual", False)
+        if dual and (pair.axisymmetric or pair.contactor.V.mesh.geometry.cmap.degree != 1):
+            raise ValueError(
+                "dual multipliers need straight contactor facets (geometry of degree 1) in "
+                "the plane: their biorthogonal basis 2 mu_i - mu_j holds for a constant "
+                "Jacobian and no ring weight"
+            )
         return facet_space(
-            pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant
+            pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant, dual
         )
 
     def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:

@@ -48,6 +48,10 @@ class MultiplierSpace:
             face's corners 0, 1 and 2, ``(F, 3, 2)``: the cell's reference point of face
             coordinates :math:`\xi` is :math:`X_0 + \xi_1 (X_1 - X_0) + \xi_2 (X_2 - X_0)`
             (a symmetry of the reference triangle or square). ``None`` on edges.
+        dual: Whether :meth:`basis` is the dual (biorthogonal) basis of the P1 basis
+            :math:`\mu_k` on straight edges (Wohlmuth): :math:`\psi_i = 2 \mu_i - \mu_j`
+            on each edge :math:`[i, j]`, so that :math:`\int_e \psi_i \mu_j = \delta_{ij}
+            \int_e \mu_j` and :math:`\sum_i \psi_i = 1`.
     """
 
     Q: dolfinx.fem.FunctionSpace
@@ -55,6 +59,7 @@ class MultiplierSpace:
     cells: npt.NDArray[np.int32]
     flip: npt.NDArray[np.bool_]
     corners: npt.NDArray[np.floating] | None = None
+    dual: bool = False
 
     @functools.cached_property
     def integrals(self) -> npt.NDArray[np.floating]:
@@ -111,16 +116,24 @@ class MultiplierSpace:
         """
         if self.corners is None:
             s = np.where(self.flip[rows], 1.0 - xi, xi)
-            return backend.facet_basis(self.edge_table, np.zeros(s.size, np.int32), s)
+            mu = backend.facet_basis(self.edge_table, np.zeros(s.size, np.int32), s)
+            return 2.0 * mu - mu[:, ::-1] if self.dual else mu
         X0, X1, X2 = (self.corners[rows, i] for i in range(3))
         X = X0 + xi[:, :1] * (X1 - X0) + xi[:, 1:2] * (X2 - X0)
         return tabulate(self.element, 0, X)[0]
 
 
 def facet_space(
-    contactor: ContactSurface, degree: int, discontinuous: bool, variant: basix.LagrangeVariant
+    contactor: ContactSurface,
+    degree: int,
+    discontinuous: bool,
+    variant: basix.LagrangeVariant,
+    dual: bool = False,
 ) -> MultiplierSpace:
-    """A Lagrange space of Eq. (16) on a submesh of the contactor's tagged facets."""
+    """A Lagrange space of Eq. (16) on a submesh of the contactor's tagged facets.
+
+    With ``dual``, its coefficients are those of the dual basis (:class:`MultiplierSpace`).
+    """
     mesh = contactor.V.mesh
     fdim = mesh.topology.dim - 1
     imap = mesh.topology.index_map(fdim)
@@ -151,7 +164,7 @@ def facet_space(
     _, x0, _ = contactor.evaluate(data, rows, np.zeros(rows.size))
     sub_x = submesh.geometry.x[geometry_dofmap(submesh)[cells, 0], : x0.shape[1]]
     flip = np.linalg.norm(sub_x - x0, axis=1) > 1e-8 * (1.0 + np.linalg.norm(x0, axis=1))
-    return MultiplierSpace(Q, element, cells, flip)
+    return MultiplierSpace(Q, element, cells, flip, dual=dual)
 
 
 def _face_corners(

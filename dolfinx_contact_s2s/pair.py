@@ -159,8 +159,8 @@ class ContactPair:
             method: One of :data:`METHODS`.
             multiplier: ``("Lagrange", s)`` for :math:`\mathcal M^1_{h,s}` (continuous) or
                 ``("DG", s)`` for :math:`\mathcal M^0_{h,s}` (discontinuous), Eq. (16);
-                defaults to continuous of the contactor's displacement degree. Node-based
-                methods need the default.
+                defaults to continuous of the contactor's displacement degree; ``("Dual",
+                1)``: the dual basis of P1 (:class:`~.multiplier.MultiplierSpace`).
             quadrature: One of :data:`~dolfinx_contact_s2s.quadrature.RULES`; defaults
                 to ``"composite-gauss"`` (``"gauss"`` for ``node-to-segment-gauss``).
             quadrature_points: Points per (sub-)segment; defaults to the fewest Gauss
@@ -237,7 +237,7 @@ class ContactPair:
 
         k_c = contactor.element.degree
         family, degree = ("Lagrange", k_c) if multiplier is None else multiplier
-        continuous = family in ("Lagrange", "P", "CG")
+        continuous, self.dual = family in ("Lagrange", "P", "CG", "Dual"), family == "Dual"
         if not continuous and family not in ("DG", "Discontinuous Lagrange"):
             raise ValueError(f"multiplier family must be 'Lagrange' or 'DG', not {family!r}")
         if not isinstance(degree, (int, np.integer)) or degree < 0:
@@ -338,7 +338,7 @@ class ContactPair:
     @property
     def squared_coverage(self) -> bool:
         """Whether coverage is of mu_k^2 (faces, quadratic edges: vertex integrals may vanish)."""
-        return self.contactor.facet_dim == 2 or self.multiplier.element.degree > 1
+        return self.contactor.facet_dim == 2 or self.multiplier.element.degree > 1 or self.dual
 
     def reach(self) -> npt.NDArray[np.floating] | None:
         """This process's contactor facets' box ``(2, gdim)``, grown by the search radius.
@@ -536,8 +536,8 @@ def contact_pair(
             :math:`\mathcal M^1_{h,s}` (continuous, :math:`s \ge 1`) or ``("DG", s)`` for
             :math:`\mathcal M^0_{h,s}` (discontinuous, :math:`s \ge 0`), on the contactor
             facets. Default ``None``: continuous, of the contactor's displacement degree.
-            The node-based methods and the intermediate surface define their own and
-            need the default.
+            ``("Dual", 1)``: P1's dual basis (segment-to-segment, straight 2D facets).
+            Node-based methods and the intermediate surface need the default.
         quadrature: The rule integrating Eq. (17), one of
             :data:`~dolfinx_contact_s2s.quadrature.RULES`: ``"composite-gauss"`` or
             ``"composite-newton-cotes"`` on the sub-segments bounded by the nodes of both

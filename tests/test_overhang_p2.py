@@ -123,7 +123,7 @@ def load_tags(scene, part, a: float, b: float):
     return dolfinx.mesh.meshtags(part.mesh, 1, f[order], v[order])
 
 
-def overhang_patch(degree: int, upper_elements: int) -> dict:
+def overhang_patch(degree: int, upper_elements: int, multiplier=None) -> dict:
     """Solve the supported overhang; the multipliers pinned and the patch-test errors."""
     comm = MPI.COMM_WORLD
     p = PRESSURE
@@ -165,6 +165,7 @@ def overhang_patch(degree: int, upper_elements: int) -> dict:
     pair = contact_pair(
         contact_surface(V[upper.name], upper.facet_tags, scene.tag("upper", "bottom")),
         contact_surface(V[lower.name], lower.facet_tags, scene.tag("lower", "top")),
+        multiplier=multiplier,
     )
     unknowns = sum(Vi.dofmap.index_map.size_global * 2 for Vi in V.values())
     unknowns += pair.Q.dofmap.index_map.size_global
@@ -227,3 +228,13 @@ def check(result: dict) -> None:
 def test_target_end_inside_facet(degree, upper_elements):
     """The target's end inside a contactor facet, at any fraction: exact."""
     check(overhang_patch(degree, upper_elements))
+
+
+@pytest.mark.parametrize("upper_elements", [8, 7, 6], ids=["f0.4", "f0.6", "f0.8"])
+def test_target_end_inside_facet_dual(upper_elements):
+    """Dual P1 multipliers (psi = 2 mu_i - mu_j, negative near the other node): exact too.
+
+    Their coefficients are the pressure p where it is constant (sum psi_i = 1), and the
+    coverage by psi^2 keeps every multiplier whose support meets the target.
+    """
+    check(overhang_patch(1, upper_elements, multiplier=("Dual", 1)))

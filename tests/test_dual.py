@@ -1,0 +1,167 @@
+# Copyright (C) 2026 dolfinx_contact_s2s developers
+# SPDX-License-Identifier: MIT
+r"""Dual (biorthogonal) P1 multipliers: ``multiplier=("Dual", 1)``.
+
+On a straight edge :math:`[i, j]` the dual basis is :math:`\psi_i = 2\mu_i - \mu_j`:
+:math:`\int_e \psi_i \mu_j = \delta_{ij} \int_e \mu_j` (Wohlmuth), so the contactor's
+block of :math:`\mathbf B` is diagonal in the nodes wherever the target covers the
+contactor, with the tributary lengths on the diagonal. References from outside the code:
+the patch test's constant pressure, the tributary lengths of the mesh, the paper's
+stability criterion on the model of Fig. 2, and Hertz.
+"""
+
+from mpi4py import MPI
+
+import numpy as np
+import pytest
+
+from dolfinx_contact_s2s import contact_pair, contact_surface
+from dolfinx_contact_s2s.assemble import assemble_coupling
+from dolfinx_contact_s2s.la import gather_dense
+from paper import scenes
+from paper.blocks import block_problem, block_spaces, block_surfaces
+
+comm = MPI.COMM_WORLD
+DUAL = ("Dual", 1)
+
+
+def _max(values):
+    return comm.allreduce(float(np.max(np.abs(values), initial=0.0)), op=MPI.MAX)
+
+
+def _global_coordinates(V):
+    """Coordinates of every (blocked) dof of ``V`` by global index, on every rank."""
+    imap = V.dofmap.index_map
+    n = imap.size_local
+    x = V.tabulate_dof_coordinates()[:n, :2]
+    index = imap.local_to_global(np.arange(n, dtype=np.int32))
+    out = np.zeros((imap.size_global, 2))
+    for i, xi in comm.allgather((index, x)):
+        out[i] = xi
+    return out
+
+
+@pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
+@pytest.mark.parametrize("elements", [(3, 5), (7, 4), (6, 11)])
+def test_patch_test(cell, elements):
+    """Non-matching blocks under a uniform pressure: every dual multiplier equals p."""
+    scene = scenes.patch_test(comm, elements, cell=cell)
+    p = 0.75
+    with block_problem(
+        scene,
+        (1, 1),
+        "upper",
+        support="rollers",
+        pressure=p,
+        petsc_options_prefix="dual_patch_",
+        multiplier=DUAL,
+    ) as problem:
+        _, (lam,) = problem.solve()
+        n = lam.function_space.dofmap.index_map.size_local
+        assert _max(lam.x.array[:n] - p) <= 1e-10 * p
+
+
+def test_contactor_block_is_diagonal():
+    """Each dual multiplier row of B touches its own node only: the tributary length.
+
+    Both blocks of :func:`paper.scenes.patch_test` span the same width, so the target
+    covers the whole contactor: row k of the contactor's block is nonzero only at the
+    vertical displacement of node k, where it is :math:`\\pm\\int \\mu_k` (half the sum
+    of the lengths of the facets at the node), and the Lagrange multipliers' is not
+    diagonal.
+    """
+    scene = scenes.patch_test(comm, (5, 7), cell="quadrilateral")
+    spaces = block_spaces(scene, (1, 1))
+    surfaces = block_surfaces(scene, spaces)
+    for multiplier in (DUAL, ("Lagrange", 1)):
+        pair = contact_pair(surfaces["upper"], surfaces["lower"], multiplier=multiplier)
+        op = assemble_coupling(pair)
+        B = gather_dense(op.block(spaces["upper"]))
+        op.destroy()
+        rows = _global_coordinates(pair.Q)[:, 0]
+        cols = _global_coordinates(spaces["upper"])
+        off = 0.0
+        for k, xk in enumerate(rows):
+            node = np.isclose(cols[:, 0], xk) & np.isclose(cols[:, 1], cols[:, 1].min())
+            own = np.flatnonzero(np.repeat(node, 2) & np.tile([False, True], node.size))
+            others = np.setdiff1d(np.flatnonzero(B[k]), own)
+            off = max(off, float(np.max(np.abs(B[k, others]), initial=0.0)))
+            if multiplier == DUAL:
+                x = np.sort(rows)
+                i = int(np.searchsorted(x, xk))
+                left = x[i] - x[i - 1] if i > 0 else 0.0
+                right = x[i + 1] - x[i] if i + 1 < x.size else 0.0
+                assert abs(B[k, own[0]]) == pytest.approx(0.5 * (left + right), rel=1e-12)
+        if multiplier == DUAL:
+            assert off <= 1e-14
+        else:
+            assert off > 0.01  # the reference: mu_i mu_j couples neighbours
+
+
+def test_inf_sup_stable():
+    """The paper's stability test (Eq. 29, model of Fig. 2) passes: beta bounded in h."""
+    from paper.infsup import FIT_FROM, InfSupCase, run_case, verdicts
+
+    levels = (FIT_FROM, FIT_FROM + 1, 2 * FIT_FROM)
+    for family in ("10n/7n", "5n/(2n+1)"):
+        rec = run_case(
+            comm, InfSupCase(multiplier=DUAL, family=family), levels, full=False, dense_limit=0
+        )
+        verdict = verdicts(rec["levels"])
+        assert verdict["solvable"] and verdict["stable"], (family, verdict)
+        betas = [level["beta"] for level in rec["levels"]]
+        assert min(betas) > 0.5 * max(betas) > 0
+
+
+def test_hertz():
+    """Hertz (a/R = 5%), P1 at 20 elements across: the half-width and peak within 0.7%
+    and 0.5% (the tolerances of the Lagrange multipliers' study), and the L2 pressure
+    error falls from 10 to 20 across."""
+    from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+    from paper.hertz.exact import measure
+    from paper.hertz.study import HertzCase, hertz_model
+
+    errors = []
+    for n in (10, 20):
+        case = HertzCase(elements_across=n)
+        model = hertz_model(case)
+        tags, ft = model.scene.tags, model.scene.facet_tags
+        pair = contact_pair(
+            contact_surface(model.V, ft, tags["contactor"]),
+            contact_surface(model.V, ft, tags["target"]),
+            multiplier=DUAL,
+        )
+        with UnilateralContactProblem(
+            model.a, model.L, [pair], model.bcs, petsc_options_prefix="dual_hertz_"
+        ) as problem:
+            problem.solve()
+            m = measure(problem.multipliers[0], case.exact)
+        errors.append(m.pressure_l2_error)
+    assert abs(m.a / case.exact.a - 1) < 0.007
+    assert abs(m.p0 / case.exact.p0 - 1) < 0.005
+    assert errors[1] < errors[0]
+
+
+@pytest.mark.parametrize(
+    "options, match",
+    [
+        ({"multiplier": ("Dual", 2)}, "dual multipliers are implemented as"),
+        ({"multiplier": DUAL, "method": "node-to-segment"}, "dual multipliers are implemented as"),
+        ({"multiplier": DUAL, "quadrature": "gauss"}, "dual multipliers are implemented as"),
+    ],
+)
+def test_unsupported(options, match):
+    """Dual multipliers other than P1 composite segment-to-segment: a clear error."""
+    scene = scenes.patch_test(comm, (3, 4), cell="triangle")
+    surfaces = block_surfaces(scene, block_spaces(scene, (1, 1)))
+    with pytest.raises(ValueError, match=match):
+        contact_pair(surfaces["upper"], surfaces["lower"], **options)
+
+
+def test_curved_contactor_refused():
+    """P2 geometry (curved facets): the constant biorthogonal combination does not hold."""
+    scene = scenes.patch_test(comm, (3, 4), cell="triangle", geometry_degree=2)
+    spaces = block_spaces(scene, (2, 2))
+    surfaces = block_surfaces(scene, spaces)
+    with pytest.raises(ValueError, match="straight contactor facets"):
+        contact_pair(surfaces["upper"], surfaces["lower"], multiplier=DUAL)
