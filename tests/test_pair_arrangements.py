@@ -354,6 +354,42 @@ def test_patch_three_blocks(arrangement, cell, degree, contactor):
     assert e_lam <= tol
 
 
+@pytest.mark.parametrize("multiplier", [None, ("Dual", 1)], ids=["lagrange", "dual"])
+@pytest.mark.parametrize("algorithm", ["active-set", "condensed-active-set"])
+def test_unilateral_three_blocks_two_pairs(algorithm, multiplier):
+    """Unilateral contact with two pairs (each lower block a contactor), pressed together.
+
+    Every multiplier of both pairs active and equal to p, the stress uniform: the active
+    set's and the condensed solve's bookkeeping over two pairs (the condensed one orders
+    both pairs' multipliers in one dense block), with Lagrange and dual multipliers.
+    """
+    from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+
+    scene = three_blocks(MPI.COMM_WORLD, arrangement="mixed", cell="triangle")
+    model = Model(scene, 1, materials=THREE_BLOCK_MATERIALS)
+    upper = model.surface("upper", "bottom")
+    lowers = [model.surface("lower_left", "top"), model.surface("lower_right", "top")]
+    pairs = [contact_pair(lower, upper, multiplier=multiplier) for lower in lowers]
+    p, comm = model.p, MPI.COMM_WORLD
+    with UnilateralContactProblem(
+        model.a, model.L, pairs, model.bcs, petsc_options_prefix="uni_two_", algorithm=algorithm
+    ) as problem:
+        u, lam = problem.solve([0.5, 1.0])
+        e_sig = max(stress_error(ui, *model.lame[n], p) for n, ui in zip(model.V, u, strict=True))
+        e_lam = max(
+            comm.allreduce(
+                np.max(np.abs(li.x.array[: owned(li.function_space)] - p), initial=0.0) / p,
+                op=MPI.MAX,
+            )
+            for li in lam
+        )
+        active = problem.history.steps[-1].iterations[-1].active
+    assert active == tuple(pair.Q.dofmap.index_map.size_global for pair in pairs)
+    tol = tolerance(model.unknowns(pairs))
+    assert e_sig <= tol
+    assert e_lam <= tol
+
+
 @pytest.mark.parametrize("contactor", ["upper", "lower"])
 @pytest.mark.parametrize(
     "arrangement, cell, degree", THREE_BLOCK_CASES, ids=lambda c: str(c).replace(" ", "-")
