@@ -42,12 +42,12 @@ demo:
 	$(ENV_RUN) python3 demos/demo_large_sliding.py
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_large_sliding.py
 
-## bench: every performance figure of issues 11, 21 (3D: P9-P11) and 24 (P12) as a ratio measured in one run
+## bench: every performance figure of issues 11, 21 (3D: P9-P11) and 24 (P12, P13) as a ratio measured in one run
 ## -> results/bench/*.json, plots and the performance section of results/report.md (about 10-20
 ## minutes on 2 cores, and about 20 more for the 3D solves of 1 and 2 million unknowns)
 BENCH_OUT := results/bench
 BENCH_REQUIRED := p1_coupling p2_share_blocks p2_share_hertz p3_saddle p4_infsup p6_scaling p7_ranks \
-    p8_factorization p9_coupling_3d p10_share_3d p11_fieldsplit_3d p12_unilateral
+    p8_factorization p9_coupling_3d p10_share_3d p11_fieldsplit_3d p12_unilateral p13_dual
 bench:
 	$(ENV_RUN) python3 bench/bench_coupling.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_blocks.py --out $(BENCH_OUT)
@@ -60,6 +60,7 @@ bench:
 	$(ENV_RUN) python3 bench/bench_factorization.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_3d.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_unilateral.py --out $(BENCH_OUT)
+	$(ENV_RUN) python3 bench/bench_dual.py --out $(BENCH_OUT)
 	$(ENV_RUN) python3 bench/bench_report.py --out $(BENCH_OUT) --require $(BENCH_REQUIRED)
 
 ## bench-smoke: every bench script at tiny sizes; checks that every record is complete (not the timings)
@@ -77,6 +78,7 @@ bench-smoke:
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_factorization.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_3d.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_unilateral.py --smoke --out build/bench-smoke-$(SUITE)/bench
+	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_dual.py --smoke --out build/bench-smoke-$(SUITE)/bench
 	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 bench/bench_report.py --out build/bench-smoke-$(SUITE)/bench \
 	    --require $(BENCH_REQUIRED) p4_infsup_np2
 

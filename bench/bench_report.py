@@ -271,6 +271,23 @@ if "p11_fieldsplit_3d" in records:
             f"{run['error_pressure']:.1e} | {run['error_displacement']:.1e} |"
         )
     lines += ["", "![P9 and P11](bench/p9_p11_3d.png)"]
+if "p13_dual" in records:
+    r = records["p13_dual"]
+    lines += [
+        "",
+        "### P13: tied dual multipliers condensed, CG + GAMG (1 rank)",
+        "",
+        "| unknowns | multipliers | condensed (s) | its | set-up T^T K T (s) | K alone (s) | its "
+        "| ratio | pressure error |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for row in r["rows"]:
+        lines.append(
+            f"| {row['unknowns']:,} | {row['multipliers']} | {row['condensed_seconds']:.3g} | "
+            f"{row['condensed_iterations']} | {row['condensation_setup_seconds']:.3g} | "
+            f"{row['k_seconds']:.3g} | {row['k_iterations']} | {row['ratio']:.2f} | "
+            f"{row['pressure_error']:.1e} |"
+        )
 if "p12_unilateral" in records:
     r = records["p12_unilateral"]
     lines += [

@@ -165,3 +165,69 @@ def test_curved_contactor_refused():
     surfaces = block_surfaces(scene, spaces)
     with pytest.raises(ValueError, match="straight contactor facets"):
         contact_pair(surfaces["upper"], surfaces["lower"], multiplier=DUAL)
+
+
+@pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
+def test_condensed_solve_matches_the_saddle_point(cell):
+    """CG + GAMG on T^T K T: the saddle point's u and lambda, and the patch test's p.
+
+    The reference is the direct solve of Eq. (18) with the same dual multipliers; the
+    condensed solve eliminates the multipliers and the contactor's normal displacements
+    (the upper block is held vertically by contact alone).
+    """
+    from dolfinx_contact_s2s.condensation import DualCondensation
+
+    scene = scenes.patch_test(comm, (12, 17), cell=cell)
+    p = 0.75
+    with block_problem(
+        scene,
+        (1, 1),
+        "upper",
+        support="rollers",
+        pressure=p,
+        petsc_options_prefix="dual_cond_",
+        multiplier=DUAL,
+    ) as problem:
+        problem.solve()
+        ref_u = [f.x.array.copy() for f in problem.u]
+        ref_lam = problem.multipliers[0].x.array.copy()
+        condensation = DualCondensation(problem, petsc_options_prefix="dual_cg_")
+        try:
+            condensation.solve()  # checks the saddle point's residual itself
+            assert 0 < condensation.iterations < 60
+            assert condensation.ksp.getType() == "cg"
+        finally:
+            condensation.destroy()
+        for f, r in zip(problem.u, ref_u, strict=True):
+            assert _max(f.x.array - r) <= 1e-9 * _max(r)
+        lam = problem.multipliers[0].x.array
+        assert _max(lam - ref_lam) <= 1e-9 * p
+        n = problem.multipliers[0].function_space.dofmap.index_map.size_local
+        assert _max(lam[:n] - p) <= 1e-9 * p
+
+
+def test_condensation_refuses_what_it_cannot_eliminate():
+    """Lagrange multipliers, or a target covering a contactor facet in part: clear errors.
+
+    In the overhang scene the target's end cuts a contactor facet: the dual basis is
+    biorthogonal over whole facets only, so that facet's rows touch each other's node.
+    """
+    from test_overhang_p2 import overhang_problem
+
+    from dolfinx_contact_s2s.condensation import DualCondensation
+
+    scene = scenes.patch_test(comm, (3, 4), cell="triangle")
+    with block_problem(
+        scene, (1, 1), "upper", support="rollers", pressure=1.0, petsc_options_prefix="dual_no_"
+    ) as problem:
+        with pytest.raises(ValueError, match=r"multiplier=\('Dual', 1\) on every pair"):
+            DualCondensation(problem, petsc_options_prefix="dual_no_cg_")
+
+    with overhang_problem(8, multiplier=DUAL) as problem:
+        message = None
+        try:
+            DualCondensation(problem, petsc_options_prefix="dual_over_cg_")
+        except ValueError as error:
+            message = str(error)
+    messages = comm.allgather(message)
+    assert all(m is not None and "block of B diagonal" in m for m in messages), messages

@@ -123,8 +123,8 @@ def load_tags(scene, part, a: float, b: float):
     return dolfinx.mesh.meshtags(part.mesh, 1, f[order], v[order])
 
 
-def overhang_patch(degree: int, upper_elements: int, multiplier=None) -> dict:
-    """Solve the supported overhang; the multipliers pinned and the patch-test errors."""
+def overhang_model(degree: int, upper_elements: int, multiplier=None):
+    """The supported overhang's forms, pair, conditions and the cut facet's data."""
     comm = MPI.COMM_WORLD
     p = PRESSURE
     scene = overhang(
@@ -135,7 +135,6 @@ def overhang_patch(degree: int, upper_elements: int, multiplier=None) -> dict:
     b = a + h
     f = (W - a) / h
     coefficients = projection(f, degree)
-
     V, forms_a, forms_L, lames = {}, [], [], {}
     for name, part in scene.parts.items():
         V[name] = Vi = dolfinx.fem.functionspace(part.mesh, ("Lagrange", degree, (2,)))
@@ -166,6 +165,22 @@ def overhang_patch(degree: int, upper_elements: int, multiplier=None) -> dict:
         contact_surface(V[upper.name], upper.facet_tags, scene.tag("upper", "bottom")),
         contact_surface(V[lower.name], lower.facet_tags, scene.tag("lower", "top")),
         multiplier=multiplier,
+    )
+    return V, forms_a, forms_L, pair, bcs, lames, (h, b, f)
+
+
+def overhang_problem(upper_elements: int, degree: int = 1, multiplier=None):
+    """The overhang patch test as a tied problem (not yet solved)."""
+    _, a, L, pair, bcs, _, _ = overhang_model(degree, upper_elements, multiplier)
+    return LinearContactProblem(a, L, [pair], bcs, petsc_options_prefix="ovp2_problem_")
+
+
+def overhang_patch(degree: int, upper_elements: int, multiplier=None) -> dict:
+    """Solve the supported overhang; the multipliers pinned and the patch-test errors."""
+    comm = MPI.COMM_WORLD
+    p = PRESSURE
+    V, forms_a, forms_L, pair, bcs, lames, (h, b, f) = overhang_model(
+        degree, upper_elements, multiplier
     )
     unknowns = sum(Vi.dofmap.index_map.size_global * 2 for Vi in V.values())
     unknowns += pair.Q.dofmap.index_map.size_global

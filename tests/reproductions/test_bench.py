@@ -33,6 +33,7 @@ SCRIPTS = {
     "bench_factorization.py": ["p8_factorization"],
     "bench_3d.py": ["p9_coupling_3d", "p10_share_3d", "p11_fieldsplit_3d"],
     "bench_unilateral.py": ["p12_unilateral"],
+    "bench_dual.py": ["p13_dual"],
 }
 
 #: What the issue asks of every record (issue 11, item 6).
