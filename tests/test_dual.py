@@ -41,21 +41,26 @@ def _global_coordinates(V):
     return out
 
 
-@pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
-@pytest.mark.parametrize("elements", [(3, 5), (7, 4), (6, 11)])
-def test_patch_test(cell, elements):
-    """Non-matching blocks under a uniform pressure: every dual multiplier equals p."""
+def _patch_problem(elements, cell, p, prefix):
+    """Non-matching blocks, the upper one pressed by p and held by contact vertically."""
     scene = scenes.patch_test(comm, elements, cell=cell)
-    p = 0.75
-    with block_problem(
+    return block_problem(
         scene,
         (1, 1),
         "upper",
         support="rollers",
         pressure=p,
-        petsc_options_prefix="dual_patch_",
+        petsc_options_prefix=prefix,
         multiplier=DUAL,
-    ) as problem:
+    )
+
+
+@pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
+@pytest.mark.parametrize("elements", [(3, 5), (7, 4), (6, 11)])
+def test_patch_test(cell, elements):
+    """Non-matching blocks under a uniform pressure: every dual multiplier equals p."""
+    p = 0.75
+    with _patch_problem(elements, cell, p, "dual_patch_") as problem:
         _, (lam,) = problem.solve()
         n = lam.function_space.dofmap.index_map.size_local
         assert _max(lam.x.array[:n] - p) <= 1e-10 * p
@@ -177,17 +182,8 @@ def test_condensed_solve_matches_the_saddle_point(cell):
     """
     from dolfinx_contact_s2s.condensation import DualCondensation
 
-    scene = scenes.patch_test(comm, (12, 17), cell=cell)
     p = 0.75
-    with block_problem(
-        scene,
-        (1, 1),
-        "upper",
-        support="rollers",
-        pressure=p,
-        petsc_options_prefix="dual_cond_",
-        multiplier=DUAL,
-    ) as problem:
+    with _patch_problem((12, 17), cell, p, "dual_cond_") as problem:
         problem.solve()
         ref_u = [f.x.array.copy() for f in problem.u]
         ref_lam = problem.multipliers[0].x.array.copy()
