@@ -237,7 +237,7 @@ class Discretization:
         """The multiplier space of ``pair`` (Eq. 16 on the contactor facets)."""
         variant = pair.multiplier_variant
         dual = getattr(pair, "dual", False)
-        if dual and (pair.axisymmetric or pair.contactor.V.mesh.geometry.cmap.degree != 1):
+        if dual and (pair.axisymmetric or pair.contactor.cmap.degree != 1):
             raise ValueError(
                 "dual multipliers need straight contactor facets (geometry of degree 1) in "
                 "the plane: their biorthogonal basis 2 mu_i - mu_j holds for a constant "
