@@ -23,8 +23,9 @@ import numpy as np
 import numpy.typing as npt
 import ufl
 
+from dolfinx_contact_s2s.compat import geometry_dofmap
 from dolfinx_contact_s2s.kernels import KernelBackend, numpy_backend
-from dolfinx_contact_s2s.multiplier import cell_rows
+from dolfinx_contact_s2s.multiplier import MultiplierSpace, cell_rows
 from dolfinx_contact_s2s.pair import ContactPair
 from dolfinx_contact_s2s.quadrature import interval_rule
 
@@ -391,6 +392,27 @@ def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:
             v.destroy()
 
 
+def _dual_mass(space: MultiplierSpace, M: PETSc.Mat) -> None:
+    r"""Overwrite the mass ``M`` of :math:`\mu_k` with that of the dual basis :math:`\psi_k`.
+
+    The dual functions are discontinuous between edges: the mass is summed edge by edge,
+    :math:`h_e` times :attr:`~dolfinx_contact_s2s.multiplier.MultiplierSpace.dual_mass`
+    (straight edges), on the pattern of ``M`` (the same cell dofs).
+    """
+    Q = space.Q
+    mesh = Q.mesh
+    cells = mesh.topology.index_map(mesh.topology.dim).size_local
+    nodes = mesh.geometry.x[geometry_dofmap(mesh)[:cells, :2]]
+    lengths = np.linalg.norm(nodes[:, 1] - nodes[:, 0], axis=1)
+    local = Q.dofmap.list[:cells]
+    dofs = Q.dofmap.index_map.local_to_global(local.reshape(-1))
+    dofs = dofs.reshape(local.shape).astype(PETSc.IntType)  # also without cells on this rank
+    M.zeroEntries()
+    for c in range(cells):
+        M.setValues(dofs[c], dofs[c], lengths[c] * space.dual_mass, addv=PETSc.InsertMode.ADD)
+    M.assemble()
+
+
 def _lumped(pair: ContactPair, M: PETSc.Mat) -> PETSc.Mat:
     """Diagonal of row sums of ``M`` (the tributary lengths of the nodes)."""
     w = M.createVecLeft()
@@ -428,16 +450,7 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * w * ufl.dx))
     M.assemble()
     if getattr(pair.multiplier, "dual", False):
-        # int psi_i psi_j on a straight edge of length h: (h / 2) [[2, -1], [-1, 2]], which
-        # is 4 lumped(M) - 3 M with M = (h / 6) [[2, 1], [1, 2]].
-        rows = M.createVecLeft()
-        M.getRowSum(rows)
-        M.scale(-3.0)
-        diagonal = M.getDiagonal()
-        diagonal.axpy(4.0, rows)
-        M.setDiagonal(diagonal)
-        for v in (rows, diagonal):
-            v.destroy()
+        _dual_mass(pair.multiplier, M)
     if not pair.nodal:
         return M
     D = _lumped(pair, M)

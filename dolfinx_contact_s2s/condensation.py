@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 r"""Tied contact with dual multipliers as a symmetric positive definite system.
 
-With dual multipliers (``multiplier=("Dual", 1)``, :class:`~.multiplier.MultiplierSpace`)
+With dual multipliers (``multiplier=("Dual", k)``, :class:`~.multiplier.MultiplierSpace`)
 the contactor's block of :math:`\mathbf B` is diagonal in the nodes where the target
 covers the contactor: each constraint row :math:`k` of :math:`\mathbf B \mathbf U +
 \mathbf G = 0` (Eq. 18) has one entry :math:`B_{ks}` on a displacement of its own node
@@ -92,7 +92,7 @@ class DualCondensation:
         if type(problem) is not LinearContactProblem:
             raise ValueError("the dual condensation solves tied contact (LinearContactProblem)")
         if not all(getattr(p.multiplier, "dual", False) for p in problem.pairs):
-            raise ValueError("the dual condensation needs multiplier=('Dual', 1) on every pair")
+            raise ValueError("the dual condensation needs multiplier=('Dual', k) on every pair")
         self.problem = problem
         system = self.system = problem.system
         self.comm: MPI.Comm = system.comm

@@ -188,13 +188,15 @@ class Discretization:
             and not (
                 self.method == "segment-to-segment"
                 and quadrature.startswith("composite")
-                and multiplier[1] == 1
+                and multiplier[1] == contactor.element.degree
                 and contactor.facet_dim == 1
             )
         ):
             raise ValueError(
-                "dual multipliers are implemented as ('Dual', 1) with segment-to-segment "
-                "and a composite rule on 2D contactors only"
+                "dual multipliers are implemented as ('Dual', k), k the contactor's "
+                f"displacement degree ({contactor.element.degree}: the basis is "
+                "biorthogonal to its trace), with segment-to-segment and a composite rule "
+                "on 2D contactors only"
             )
         continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
         s2s = self.method == "segment-to-segment" and quadrature == "composite-gauss"
@@ -240,8 +242,8 @@ class Discretization:
         if dual and (pair.axisymmetric or pair.contactor.cmap.degree != 1):
             raise ValueError(
                 "dual multipliers need straight contactor facets (geometry of degree 1) in "
-                "the plane: their biorthogonal basis 2 mu_i - mu_j holds for a constant "
-                "Jacobian and no ring weight"
+                "the plane: their biorthogonal basis (2 mu_i - mu_j on P1) holds for a "
+                "constant Jacobian and no ring weight"
             )
         return facet_space(
             pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant, dual

@@ -48,10 +48,11 @@ class MultiplierSpace:
             face's corners 0, 1 and 2, ``(F, 3, 2)``: the cell's reference point of face
             coordinates :math:`\xi` is :math:`X_0 + \xi_1 (X_1 - X_0) + \xi_2 (X_2 - X_0)`
             (a symmetry of the reference triangle or square). ``None`` on edges.
-        dual: Whether :meth:`basis` is the dual (biorthogonal) basis of the P1 basis
-            :math:`\mu_k` on straight edges (Wohlmuth): :math:`\psi_i = 2 \mu_i - \mu_j`
-            on each edge :math:`[i, j]`, so that :math:`\int_e \psi_i \mu_j = \delta_{ij}
-            \int_e \mu_j` and :math:`\sum_i \psi_i = 1`.
+        dual: Whether :meth:`basis` is the dual (biorthogonal) basis of the Lagrange
+            basis :math:`\mu_k` on straight edges (Wohlmuth): on each edge
+            :math:`\psi_i = \sum_j A_{ij} \mu_j` (:attr:`dual_coefficients`), so that
+            :math:`\int_e \psi_i \mu_j = \delta_{ij} \int_e \mu_j` and
+            :math:`\sum_i \psi_i = 1`; P1: :math:`\psi_i = 2 \mu_i - \mu_j`.
     """
 
     Q: dolfinx.fem.FunctionSpace
@@ -100,6 +101,29 @@ class MultiplierSpace:
         """
         return fit_monomials(self.element, self.element.degree, self.corners)
 
+    @functools.cached_property
+    def dual_coefficients(self) -> npt.NDArray[np.floating]:
+        r"""The dual basis on an edge, :math:`\mathbf A = \mathbf D \mathbf M^{-1}` (cell dofs).
+
+        :math:`\mathbf M` is the mass on the reference edge and :math:`\mathbf D` its row
+        sums (:math:`\int_e \mu_j`): on a straight edge the length cancels.
+        Biorthogonality is :math:`\mathbf A \mathbf M = \mathbf D`; the columns of
+        :math:`\mathbf A` sum to 1. The quadratic edge's :math:`\int_e \mu_j` (1/6, 1/6,
+        2/3) are positive: no modified basis is needed (the quadratic triangle's vanish).
+        """
+        return np.linalg.solve(self._edge_mass, np.diag(self._edge_mass.sum(axis=1))).T
+
+    @functools.cached_property
+    def dual_mass(self) -> npt.NDArray[np.floating]:
+        r""":math:`\int_e \psi_i \psi_j = \mathbf D \mathbf M^{-1} \mathbf D` on a unit edge."""
+        return self.dual_coefficients @ np.diag(self._edge_mass.sum(axis=1))
+
+    @functools.cached_property
+    def _edge_mass(self) -> npt.NDArray[np.floating]:
+        points, weights = basix.make_quadrature(basix.CellType.interval, 2 * self.element.degree)
+        mu = tabulate(self.element, 0, points)[0]
+        return mu.T @ (weights[:, None] * mu)
+
     def basis(
         self, rows: npt.NDArray[np.int32], xi: npt.NDArray[np.floating], backend: KernelBackend
     ) -> npt.NDArray[np.floating]:
@@ -117,7 +141,7 @@ class MultiplierSpace:
         if self.corners is None:
             s = np.where(self.flip[rows], 1.0 - xi, xi)
             mu = backend.facet_basis(self.edge_table, np.zeros(s.size, np.int32), s)
-            return 2.0 * mu - mu[:, ::-1] if self.dual else mu
+            return mu @ self.dual_coefficients.T if self.dual else mu
         X0, X1, X2 = (self.corners[rows, i] for i in range(3))
         X = X0 + xi[:, :1] * (X1 - X0) + xi[:, 1:2] * (X2 - X0)
         return tabulate(self.element, 0, X)[0]

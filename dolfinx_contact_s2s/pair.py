@@ -160,7 +160,7 @@ class ContactPair:
             multiplier: ``("Lagrange", s)`` for :math:`\mathcal M^1_{h,s}` (continuous) or
                 ``("DG", s)`` for :math:`\mathcal M^0_{h,s}` (discontinuous), Eq. (16);
                 defaults to continuous of the contactor's displacement degree; ``("Dual",
-                1)``: the dual basis of P1 (:class:`~.multiplier.MultiplierSpace`).
+                k)``: the dual basis of Pk, k the contactor's degree (:func:`contact_pair`).
             quadrature: One of :data:`~dolfinx_contact_s2s.quadrature.RULES`; defaults
                 to ``"composite-gauss"`` (``"gauss"`` for ``node-to-segment-gauss``).
             quadrature_points: Points per (sub-)segment; defaults to the fewest Gauss
@@ -536,7 +536,8 @@ def contact_pair(
             :math:`\mathcal M^1_{h,s}` (continuous, :math:`s \ge 1`) or ``("DG", s)`` for
             :math:`\mathcal M^0_{h,s}` (discontinuous, :math:`s \ge 0`), on the contactor
             facets. Default ``None``: continuous, of the contactor's displacement degree.
-            ``("Dual", 1)``: P1's dual basis (segment-to-segment, straight 2D facets).
+            ``("Dual", k)``: the dual basis of Pk, k the contactor's displacement degree
+            (1 or 2; segment-to-segment, straight 2D facets).
             Node-based methods and the intermediate surface need the default.
         quadrature: The rule integrating Eq. (17), one of
             :data:`~dolfinx_contact_s2s.quadrature.RULES`: ``"composite-gauss"`` or

@@ -1,11 +1,13 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-r"""Dual (biorthogonal) P1 multipliers: ``multiplier=("Dual", 1)``.
+r"""Dual (biorthogonal) P1 and P2 multipliers: ``multiplier=("Dual", k)``.
 
-On a straight edge :math:`[i, j]` the dual basis is :math:`\psi_i = 2\mu_i - \mu_j`:
-:math:`\int_e \psi_i \mu_j = \delta_{ij} \int_e \mu_j` (Wohlmuth), so the contactor's
+On a straight edge the dual basis satisfies :math:`\int_e \psi_i \mu_j = \delta_{ij}
+\int_e \mu_j` (Wohlmuth; P1: :math:`\psi_i = 2\mu_i - \mu_j`), so the contactor's
 block of :math:`\mathbf B` is diagonal in the nodes wherever the target covers the
-contactor, with the tributary lengths on the diagonal. References from outside the code:
+contactor, with the integrals of the Lagrange basis on the diagonal (P1: half the
+lengths of the edges at a vertex; P2: a sixth of them at a vertex, two thirds of the
+edge at its midpoint). References from outside the code:
 the patch test's constant pressure, the tributary lengths of the mesh, the paper's
 stability criterion on the model of Fig. 2, and Hertz.
 """
@@ -41,77 +43,87 @@ def _global_coordinates(V):
     return out
 
 
-def _patch_problem(elements, cell, p, prefix):
+def _patch_problem(elements, cell, p, prefix, degree=1):
     """Non-matching blocks, the upper one pressed by p and held by contact vertically."""
     scene = scenes.patch_test(comm, elements, cell=cell)
     return block_problem(
         scene,
-        (1, 1),
+        (degree, degree),
         "upper",
         support="rollers",
         pressure=p,
         petsc_options_prefix=prefix,
-        multiplier=DUAL,
+        multiplier=("Dual", degree),
     )
 
 
+@pytest.mark.parametrize("degree", [1, 2])
 @pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
 @pytest.mark.parametrize("elements", [(3, 5), (7, 4), (6, 11)])
-def test_patch_test(cell, elements):
+def test_patch_test(cell, elements, degree):
     """Non-matching blocks under a uniform pressure: every dual multiplier equals p."""
     p = 0.75
-    with _patch_problem(elements, cell, p, "dual_patch_") as problem:
+    with _patch_problem(elements, cell, p, "dual_patch_", degree) as problem:
         _, (lam,) = problem.solve()
         n = lam.function_space.dofmap.index_map.size_local
         assert _max(lam.x.array[:n] - p) <= 1e-10 * p
 
 
-def test_contactor_block_is_diagonal():
-    """Each dual multiplier row of B touches its own node only: the tributary length.
+def _integral(x, k, degree):
+    r""":math:`\\int \\mu_k` on the sorted nodes ``x`` of a straight line (P1 or P2)."""
+    step = degree  # the edges' ends: every node (P1), every other node (P2)
+    if degree == 2 and k % 2 == 1:
+        return 2.0 / 3.0 * (x[k + 1] - x[k - 1])
+    left = x[k] - x[k - step] if k >= step else 0.0
+    right = x[k + step] - x[k] if k + step < x.size else 0.0
+    return (left + right) / (2.0 if degree == 1 else 6.0)
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_contactor_block_is_diagonal(degree):
+    """Each dual multiplier row of B touches its own node only: :math:`\\int \\mu_k`.
 
     Both blocks of :func:`paper.scenes.patch_test` span the same width, so the target
     covers the whole contactor: row k of the contactor's block is nonzero only at the
-    vertical displacement of node k, where it is :math:`\\pm\\int \\mu_k` (half the sum
-    of the lengths of the facets at the node), and the Lagrange multipliers' is not
-    diagonal.
+    vertical displacement of node k, where it is :math:`\\pm\\int \\mu_k` (closed form on
+    the nodes, :func:`_integral`), and the Lagrange multipliers' is not diagonal.
     """
     scene = scenes.patch_test(comm, (5, 7), cell="quadrilateral")
-    spaces = block_spaces(scene, (1, 1))
+    spaces = block_spaces(scene, (degree, degree))
     surfaces = block_surfaces(scene, spaces)
-    for multiplier in (DUAL, ("Lagrange", 1)):
+    for multiplier in (("Dual", degree), ("Lagrange", degree)):
         pair = contact_pair(surfaces["upper"], surfaces["lower"], multiplier=multiplier)
         op = assemble_coupling(pair)
         B = gather_dense(op.block(spaces["upper"]))
         op.destroy()
         rows = _global_coordinates(pair.Q)[:, 0]
         cols = _global_coordinates(spaces["upper"])
-        off = 0.0
+        off = diagonal = 0.0
         for k, xk in enumerate(rows):
             node = np.isclose(cols[:, 0], xk) & np.isclose(cols[:, 1], cols[:, 1].min())
             own = np.flatnonzero(np.repeat(node, 2) & np.tile([False, True], node.size))
             others = np.setdiff1d(np.flatnonzero(B[k]), own)
             off = max(off, float(np.max(np.abs(B[k, others]), initial=0.0)))
-            if multiplier == DUAL:
+            diagonal = max(diagonal, abs(B[k, own[0]]))
+            if multiplier[0] == "Dual":
                 x = np.sort(rows)
-                i = int(np.searchsorted(x, xk))
-                left = x[i] - x[i - 1] if i > 0 else 0.0
-                right = x[i + 1] - x[i] if i + 1 < x.size else 0.0
-                assert abs(B[k, own[0]]) == pytest.approx(0.5 * (left + right), rel=1e-12)
-        if multiplier == DUAL:
+                expected = _integral(x, int(np.searchsorted(x, xk)), degree)
+                assert abs(B[k, own[0]]) == pytest.approx(expected, rel=1e-12)
+        if multiplier[0] == "Dual":
             assert off <= 1e-14
         else:
-            assert off > 0.01  # the reference: mu_i mu_j couples neighbours
+            assert off > 0.1 * diagonal  # the reference: mu_i mu_j couples neighbours
 
 
-def test_inf_sup_stable():
+@pytest.mark.parametrize("degree", [1, 2])
+def test_inf_sup_stable(degree):
     """The paper's stability test (Eq. 29, model of Fig. 2) passes: beta bounded in h."""
     from paper.infsup import FIT_FROM, InfSupCase, run_case, verdicts
 
     levels = (FIT_FROM, FIT_FROM + 1, 2 * FIT_FROM)
     for family in ("10n/7n", "5n/(2n+1)"):
-        rec = run_case(
-            comm, InfSupCase(multiplier=DUAL, family=family), levels, full=False, dense_limit=0
-        )
+        case = InfSupCase(multiplier=("Dual", degree), degree=degree, family=family)
+        rec = run_case(comm, case, levels, full=False, dense_limit=0)
         verdict = verdicts(rec["levels"])
         assert verdict["solvable"] and verdict["stable"], (family, verdict)
         betas = [level["beta"] for level in rec["levels"]]
@@ -169,11 +181,12 @@ def test_curved_contactor_refused():
     spaces = block_spaces(scene, (2, 2))
     surfaces = block_surfaces(scene, spaces)
     with pytest.raises(ValueError, match="straight contactor facets"):
-        contact_pair(surfaces["upper"], surfaces["lower"], multiplier=DUAL)
+        contact_pair(surfaces["upper"], surfaces["lower"], multiplier=("Dual", 2))
 
 
+@pytest.mark.parametrize("degree", [1, 2])
 @pytest.mark.parametrize("cell", ["quadrilateral", "triangle"])
-def test_condensed_solve_matches_the_saddle_point(cell):
+def test_condensed_solve_matches_the_saddle_point(cell, degree):
     """CG + GAMG on T^T K T: the saddle point's u and lambda, and the patch test's p.
 
     The reference is the direct solve of Eq. (18) with the same dual multipliers; the
@@ -183,7 +196,7 @@ def test_condensed_solve_matches_the_saddle_point(cell):
     from dolfinx_contact_s2s.condensation import DualCondensation
 
     p = 0.75
-    with _patch_problem((12, 17), cell, p, "dual_cond_") as problem:
+    with _patch_problem((12, 17), cell, p, "dual_cond_", degree) as problem:
         problem.solve()
         ref_u = [f.x.array.copy() for f in problem.u]
         ref_lam = problem.multipliers[0].x.array.copy()
@@ -216,7 +229,7 @@ def test_condensation_refuses_what_it_cannot_eliminate():
     with block_problem(
         scene, (1, 1), "upper", support="rollers", pressure=1.0, petsc_options_prefix="dual_no_"
     ) as problem:
-        with pytest.raises(ValueError, match=r"multiplier=\('Dual', 1\) on every pair"):
+        with pytest.raises(ValueError, match=r"multiplier=\('Dual', k\) on every pair"):
             DualCondensation(problem, petsc_options_prefix="dual_no_cg_")
 
     with overhang_problem(8, multiplier=DUAL) as problem:

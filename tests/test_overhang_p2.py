@@ -245,11 +245,12 @@ def test_target_end_inside_facet(degree, upper_elements):
     check(overhang_patch(degree, upper_elements))
 
 
+@pytest.mark.parametrize("degree", [1, 2])
 @pytest.mark.parametrize("upper_elements", [8, 7, 6], ids=["f0.4", "f0.6", "f0.8"])
-def test_target_end_inside_facet_dual(upper_elements):
-    """Dual P1 multipliers (psi = 2 mu_i - mu_j, negative near the other node): exact too.
+def test_target_end_inside_facet_dual(upper_elements, degree):
+    """Dual P1 and P2 multipliers (P1: psi = 2 mu_i - mu_j; both negative in part): exact.
 
     Their coefficients are the pressure p where it is constant (sum psi_i = 1), and the
     coverage by psi^2 keeps every multiplier whose support meets the target.
     """
-    check(overhang_patch(1, upper_elements, multiplier=("Dual", 1)))
+    check(overhang_patch(degree, upper_elements, multiplier=("Dual", degree)))
