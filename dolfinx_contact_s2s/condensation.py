@@ -39,6 +39,7 @@ import numpy.typing as npt
 
 from dolfinx_contact_s2s.options import PETScOptions, solver_failure
 from dolfinx_contact_s2s.problem import LinearContactProblem
+from dolfinx_contact_s2s.system import ContactSystem
 from dolfinx_contact_s2s.system_checks import check_solve
 
 __all__ = ["DEFAULT_OPTIONS", "DualCondensation"]
@@ -49,14 +50,6 @@ DEFAULT_OPTIONS = {"ksp_type": "cg", "pc_type": "gamg", "ksp_rtol": 1e-12, "ksp_
 #: A row touching another row's slave by more than this fraction of its largest entry
 #: is not diagonal.
 DIAGONAL_TOLERANCE = 1e-12
-
-
-def _copy_part(v: PETSc.Vec, is_: PETSc.IS) -> PETSc.Vec:
-    """A copy of the part of ``v`` on ``is_``; the caller destroys it."""
-    sub = v.getSubVector(is_)
-    out = sub.copy()
-    v.restoreSubVector(is_, sub)
-    return out
 
 
 def _owned_is(fields: list[PETSc.IS], comm: MPI.Comm) -> PETSc.IS:
@@ -73,7 +66,7 @@ class DualCondensation:
 
     def __init__(
         self,
-        problem: LinearContactProblem,
+        problem: LinearContactProblem | ContactSystem,
         *,
         petsc_options_prefix: str,
         petsc_options: dict[str, typing.Any] | None = None,
@@ -81,7 +74,9 @@ class DualCondensation:
         """Assemble ``problem`` and condense it.
 
         Args:
-            problem: A tied problem (``kind="aij"``) whose pairs all have dual multipliers.
+            problem: A tied problem (``kind="aij"``) whose pairs all have dual multipliers,
+                assembled here; or a system already built (the ``"dual-active-set"``
+                algorithm's, whose inactive multipliers have no row of B).
             petsc_options_prefix: Prefix of the condensed solver's options.
             petsc_options: Options under it (defaults: :data:`DEFAULT_OPTIONS`).
 
@@ -89,14 +84,15 @@ class DualCondensation:
             ValueError: On every rank, for another problem or multiplier, or a constraint
                 row that touches another row's slave.
         """
-        if type(problem) is not LinearContactProblem:
+        built = isinstance(problem, ContactSystem)
+        if not built and type(problem) is not LinearContactProblem:
             raise ValueError("the dual condensation solves tied contact (LinearContactProblem)")
         if not all(getattr(p.multiplier, "dual", False) for p in problem.pairs):
             raise ValueError("the dual condensation needs multiplier=('Dual', k) on every pair")
-        self.problem = problem
-        system = self.system = problem.system
+        system = self.system = problem if built else problem.system
         self.comm: MPI.Comm = system.comm
-        problem.assemble()
+        if not built:
+            problem.assemble()
         A = system.A
         if A is None or A.getType() == PETSc.Mat.Type.NEST:
             raise ValueError("the dual condensation needs kind='aij'")
@@ -104,28 +100,35 @@ class DualCondensation:
         nb = len(system.spaces)
         self.u_is = _owned_is([system.fields[n] for n in names[:nb]], self.comm)
         self.lam_is = _owned_is([system.fields[n] for n in names[nb:]], self.comm)
-        self.K = A.createSubMatrix(self.u_is, self.u_is)
+        a_start = A.getOwnershipRange()[0]
+        #: The system's local row of each owned displacement and multiplier, in order.
+        self.u_rows = self.u_is.getIndices() - a_start
+        self.lam_rows = self.lam_is.getIndices() - a_start
+        self.reduced = PETSc.Vec().createMPI(
+            (self.u_is.getLocalSize(), self.u_is.getSize()), comm=self.comm
+        )
         B = A.createSubMatrix(self.lam_is, self.u_is)
         B.scale(-1.0)  # the system's rows are -B U = G
-        self.F, G = (_copy_part(system.b, is_) for is_ in (self.u_is, self.lam_is))
+        sub = system.b.getSubVector(self.lam_is)
+        G = sub.copy()
+        system.b.restoreSubVector(self.lam_is, sub)
         try:
             self.slaves = self._slaves(B, G)
         except ValueError:
-            for obj in (self.K, self.F, self.u_is, self.lam_is):
+            for obj in (self.reduced, self.u_is, self.lam_is):
                 obj.destroy()
             raise
         finally:
             B.destroy()
             G.destroy()
+        # T maps the reduced unknowns to the system's (zero multipliers): T^T A T is
+        # T^T K T without a copy of K (1.7 GB at 8 million unknowns).
         self.T, self.c = self._transform()
-        self.Kt = self.K.ptap(self.T)
+        self.Kt = A.ptap(self.T)
         identity = self._slave_diagonal()
         self.Kt.axpy(1.0, identity, PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
         identity.destroy()
         self.Kt.setNearNullSpace(self._near_nullspace())
-        # K lives in the system's matrix too: the solve applies it from there (1.7 GB of
-        # 16 at 8 million unknowns).
-        self.K.destroy()
         self.options = PETScOptions(petsc_options_prefix, petsc_options, DEFAULT_OPTIONS)
         self.ksp = PETSc.KSP().create(self.comm)
         self.ksp.setOperators(self.Kt)
@@ -170,9 +173,8 @@ class DualCondensation:
             for key, value in zip(out, part, strict=True):
                 out[key].append(np.asarray(value))
         data = {k: np.concatenate(v) if v else np.zeros(0) for k, v in out.items()}
-        data["slave"] = data["slave"].astype(np.int64)
-        data["counts"] = data["counts"].astype(np.int64)
-        data["cols"] = data["cols"].astype(np.int64)
+        for key in ("slave", "counts", "cols"):
+            data[key] = data[key].astype(np.int64)
         problem = ""
         if np.unique(data["slave"]).size != data["slave"].size:
             problem = "two constraint rows share their largest displacement"
@@ -192,7 +194,7 @@ class DualCondensation:
         """Displacement columns of every contactor surface's nodes, sorted, on every rank."""
         system = self.system
         sizes = [system.fields[n].getLocalSize() for n in list(system.fields)[: len(system.spaces)]]
-        offsets = np.concatenate([[0], np.cumsum(sizes)]) + self.K.getOwnershipRange()[0]
+        offsets = np.concatenate([[0], np.cumsum(sizes)]) + self.reduced.getOwnershipRange()[0]
         mine = []
         for pair in system.pairs:
             V = pair.contactor.V
@@ -204,45 +206,52 @@ class DualCondensation:
         return np.unique(np.concatenate(self.comm.allgather(np.concatenate(mine))))
 
     def _transform(self) -> tuple[PETSc.Mat, PETSc.Vec]:
-        r""":math:`\mathbf T` (identity but the slave rows) and :math:`\mathbf c`."""
-        d = self.slaves
-        start, end = self.K.getOwnershipRange()
-        n = end - start
-        offsets = np.concatenate([[0], np.cumsum(d["counts"])])
-        owner_of = {int(s): k for k, s in enumerate(d["slave"]) if start <= s < end}
-        indptr, indices, values = [0], [], []
-        c = self.K.createVecRight()
-        for i in range(start, end):
-            k = owner_of.get(i)
-            if k is None:
-                indices.append(np.array([i]))
-                values.append(np.array([1.0]))
-            else:
-                lo, hi = offsets[k], offsets[k + 1]
-                order = np.argsort(d["cols"][lo:hi])
-                indices.append(d["cols"][lo:hi][order])
-                values.append(-d["vals"][lo:hi][order] / d["diag"][k])
-                c.array[i - start] = -d["gap"][k] / d["diag"][k]
-            indptr.append(indptr[-1] + indices[-1].size)
+        r""":math:`\mathbf T` and :math:`\mathbf c` from the reduced unknowns to the system's.
+
+        The identity on the displacements but the slaves, the slave rows of the
+        elimination, no entry on the multiplier rows; :math:`\mathbf c` in the system's
+        layout.
+        """
+        d, A = self.slaves, self.system.A
+        assert A is not None
+        start, end = self.reduced.getOwnershipRange()
+        owned = (d["slave"] >= start) & (d["slave"] < end)
+        free = np.ones(end - start, bool)
+        free[d["slave"][owned] - start] = False
+        free = np.flatnonzero(free)
+        entry = np.repeat(np.arange(d["slave"].size), d["counts"])  # each entry's row k
+        mine = owned[entry]
+        k = entry[mine]
+        rows = self.u_rows[np.concatenate([free, d["slave"][k] - start])]
+        cols = np.concatenate([start + free, d["cols"][mine]])
+        values = np.concatenate([np.ones(free.size), -d["vals"][mine] / d["diag"][k]])
+        order = np.lexsort((cols, rows))
+        n = A.getLocalSize()[0]
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))])
         T = PETSc.Mat().createAIJ(
-            [[n, self.K.getSize()[0]], [n, self.K.getSize()[1]]],
+            [A.getSizes()[0], self.reduced.getSizes()],
             csr=(
-                np.asarray(indptr, dtype=PETSc.IntType),
-                np.concatenate(indices).astype(PETSc.IntType),
-                np.concatenate(values),
+                indptr.astype(PETSc.IntType),
+                cols[order].astype(PETSc.IntType),
+                values[order],
             ),
             comm=self.comm,
         )
         T.assemble()
+        c = A.createVecRight()
+        c.set(0.0)
+        k = np.flatnonzero(owned)
+        c.array[self.u_rows[d["slave"][k] - start]] = -d["gap"][k] / d["diag"][k]
         return T, c
 
     def _slave_diagonal(self) -> PETSc.Mat:
         """The identity on the slave positions (zero rows and columns of the product)."""
-        start, end = self.K.getOwnershipRange()
-        ones = self.K.createVecRight()
+        start, end = self.reduced.getOwnershipRange()
+        ones = self.reduced.duplicate()
+        ones.set(0.0)
         mine = self.slaves["slave"][(self.slaves["slave"] >= start) & (self.slaves["slave"] < end)]
         ones.array[mine - start] = 1.0
-        D = PETSc.Mat().createAIJ(self.K.getSizes(), nnz=(1, 0), comm=self.comm)
+        D = PETSc.Mat().createAIJ([self.reduced.getSizes()] * 2, nnz=(1, 0), comm=self.comm)
         D.setDiagonal(ones)
         D.assemble()
         ones.destroy()
@@ -250,14 +259,15 @@ class DualCondensation:
 
     def _near_nullspace(self) -> PETSc.NullSpace:
         """Each body's rigid modes in the displacement layout, zero at the slaves."""
-        start, end = self.K.getOwnershipRange()
+        start, end = self.reduced.getOwnershipRange()
         mine = self.slaves["slave"][(self.slaves["slave"] >= start) & (self.slaves["slave"] < end)]
         modes: list[PETSc.Vec] = []
         offset = 0
         for i, ns in enumerate(self.system.near_nullspaces):
             size = self.system.fields[list(self.system.fields)[i]].getLocalSize()
             for v in ns.getVecs():
-                w = self.K.createVecRight()
+                w = self.reduced.duplicate()
+                w.set(0.0)
                 w.array[offset : offset + size] = v.array_r[:size]
                 w.array[mine - start] = 0.0
                 modes.append(w)
@@ -287,8 +297,11 @@ class DualCondensation:
                 too large.
         """
         system = self.system
-        rhs = self._stiffness_times(self.c)
-        rhs.aypx(-1.0, self.F)  # F - K c
+        A, b = system.A, system.b
+        assert A is not None and b is not None and system.x is not None
+        rhs = A.createVecLeft()
+        A.mult(self.c, rhs)
+        rhs.aypx(-1.0, b)  # F - K c on the displacements (T has no multiplier rows)
         reduced, x = self.T.createVecRight(), self.T.createVecRight()
         self.T.multTranspose(rhs, reduced)
         with system.timed("solve"):
@@ -297,50 +310,26 @@ class DualCondensation:
             raise RuntimeError(
                 "the condensed solve failed: " + solver_failure(self.ksp, self.options.prefix)
             )
-        u = self.c.copy()
-        self.T.multAdd(x, u, u)
-        residual = self._stiffness_times(u)
-        residual.axpy(-1.0, self.F)  # K U - F: B^T lambda at the slaves
-        lam = _copy_part(system.b, self.lam_is)
-        lam.set(0.0)
-        start = residual.getOwnershipRange()[0]
+        u = system.x
+        self.T.multAdd(x, self.c, u)
+        A.mult(u, rhs)
+        rhs.axpy(-1.0, b)  # K U - F: B^T lambda at the slaves
         d = self.slaves
+        start, end = self.reduced.getOwnershipRange()
         values = np.zeros(d["rows"].size)
-        mine = (d["slave"] >= start) & (d["slave"] < start + residual.getLocalSize())
-        values[mine] = residual.array_r[d["slave"][mine] - start] / d["diag"][mine]
+        mine = (d["slave"] >= start) & (d["slave"] < end)
+        values[mine] = rhs.array_r[self.u_rows[d["slave"][mine] - start]] / d["diag"][mine]
         self.comm.Allreduce(MPI.IN_PLACE, values, op=MPI.SUM)
-        lo, hi = lam.getOwnershipRange()
-        owned = (d["rows"] >= lo) & (d["rows"] < hi)
-        lam.array[(d["rows"][owned] - lo).astype(np.int64)] = values[owned]
-        assert system.x is not None and system.A is not None and system.b is not None
-        for is_, v in ((self.u_is, u), (self.lam_is, lam)):
-            sub = system.x.getSubVector(is_)
-            sub.array[:] = v.array_r
-            system.x.restoreSubVector(is_, sub)
-        check_solve(
-            system.A, system.b, system.x, system.residual_tolerance, self.ksp, self.options.prefix
-        )
+        lo = self.comm.exscan(self.lam_rows.size) or 0
+        owned = (d["rows"] >= lo) & (d["rows"] < lo + self.lam_rows.size)
+        u.array[self.lam_rows[(d["rows"][owned] - lo).astype(np.int64)]] = values[owned]
+        check_solve(A, b, u, system.residual_tolerance, self.ksp, self.options.prefix)
         system.scatter()
-        for v in (rhs, reduced, x, u, residual, lam):
+        for v in (rhs, reduced, x):
             v.destroy()
-
-    def _stiffness_times(self, v: PETSc.Vec) -> PETSc.Vec:
-        r""":math:`\mathbf K v` through the system's matrix; the caller destroys it."""
-        A = self.system.A
-        assert A is not None
-        full, out = A.createVecs()
-        full.set(0.0)
-        sub = full.getSubVector(self.u_is)
-        sub.array[:] = v.array_r
-        full.restoreSubVector(self.u_is, sub)
-        A.mult(full, out)
-        result = _copy_part(out, self.u_is)
-        full.destroy()
-        out.destroy()
-        return result
 
     def destroy(self) -> None:
         """Destroy the condensed system and its solver; remove its options."""
-        for obj in (self.ksp, self.Kt, self.T, self.c, self.F, self.u_is, self.lam_is):
+        for obj in (self.ksp, self.Kt, self.T, self.c, self.reduced, self.u_is, self.lam_is):
             obj.destroy()
         self.options.clear()

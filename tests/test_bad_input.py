@@ -467,6 +467,7 @@ def test_body_held_only_by_contact_that_opens(model, algorithm):
             load=(0.0, 1.0),
             problem=functools.partial(UnilateralContactProblem, algorithm=algorithm),
             prefix=f"open_{algorithm.replace('-', '_')}_",
+            **({"multiplier": ("Dual", 1)} if algorithm == "dual-active-set" else {}),
         ) as problem:
             problem.solve()
 

@@ -159,6 +159,39 @@ def test_hertz():
     assert errors[1] < errors[0]
 
 
+def test_unilateral_condensed_matches_the_saddle_point():
+    """``algorithm="dual-active-set"`` (CG + GAMG on each active set's condensed system):
+    the saddle-point loop's active sets, iterations and pressure (Hertz, 10 across)."""
+    from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+    from paper.hertz.study import HertzCase, hertz_model
+
+    model = hertz_model(HertzCase(elements_across=10))
+    tags, ft = model.scene.tags, model.scene.facet_tags
+    pair = contact_pair(
+        contact_surface(model.V, ft, tags["contactor"]),
+        contact_surface(model.V, ft, tags["target"]),
+        multiplier=DUAL,
+    )
+    results = []
+    for algorithm in ("active-set", "dual-active-set"):
+        with UnilateralContactProblem(
+            model.a,
+            model.L,
+            [pair],
+            model.bcs,
+            algorithm=algorithm,
+            petsc_options_prefix=f"dual_{algorithm[0]}_",
+        ) as problem:
+            problem.solve()
+            lam = problem.multipliers[0].x.array.copy()
+            active = problem.active[0].x.array.copy()
+            results.append((lam, active, len(problem.history.steps[0].iterations)))
+    (lam, active, its), (lam_c, active_c, its_c) = results
+    assert np.array_equal(active, active_c) and its == its_c > 1
+    assert 0 < comm.allreduce(int(active.sum())) < comm.allreduce(active.size)
+    assert _max(lam_c - lam) <= 1e-8 * _max(lam)
+
+
 @pytest.mark.parametrize(
     "options, match",
     [

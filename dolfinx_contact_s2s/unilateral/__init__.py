@@ -11,7 +11,7 @@ The contact conditions of Eq. (1), :math:`g \ge 0`, :math:`\lambda \ge 0`,
     \mathbf N + g_0\right] d\Gamma = (\mathbf B \mathbf U + \mathbf G)_j, \qquad
     \lambda_j \ge 0, \quad \tilde g_j \ge 0, \quad \lambda_j \tilde g_j = 0,
 
-with every discretization of the coupling. Five algorithms share one interface
+with every discretization of the coupling. Six algorithms share one interface
 (:class:`UnilateralContactProblem`), one module each (:mod:`.active_set`,
 :mod:`.condensed`, :mod:`.snes_vi`, :mod:`.penalty`):
 
@@ -24,6 +24,9 @@ with every discretization of the coupling. Five algorithms share one interface
   one factorization of the tied saddle point instead of one per iteration: the
   multiplier block of its inverse (MUMPS's selected entries of the inverse) turns every
   active set into a dense solve on the multipliers. Linear bodies and MUMPS only.
+- ``"dual-active-set"``: the same iterations with dual multipliers, each active set's
+  saddle point condensed to a symmetric positive definite system on the displacements
+  and solved by CG + GAMG (:class:`~dolfinx_contact_s2s.condensation.DualCondensation`).
 - ``"snes-vi"``: the same mixed complementarity problem handed to PETSc's reduced-space
   variational-inequality Newton method (``SNESVINEWTONRSLS``) with the bounds
   :math:`\lambda \ge 0` and free displacements.

@@ -17,6 +17,7 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.condensation import DualCondensation
 from dolfinx_contact_s2s.system import ContactSystem
 from dolfinx_contact_s2s.unilateral.history import LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
@@ -25,7 +26,7 @@ __all__ = ["iterate", "solve_step"]
 
 
 def solve_step(
-    run: ContactIteration, step: LoadStep, active: list[npt.NDArray[np.bool_]]
+    run: ContactIteration, step: LoadStep, active: list[npt.NDArray[np.bool_]], dual: bool = False
 ) -> list[npt.NDArray[np.bool_]]:
     """Semismooth Newton (primal-dual active set) iterations of one load step.
 
@@ -33,6 +34,10 @@ def solve_step(
         run: The solve's shared state.
         step: The load step; its iterations are appended.
         active: Per pair, the first active set (owned multipliers).
+        dual: Condense each active set's saddle point to a symmetric positive definite
+            system on the displacements and solve it by CG + GAMG (``"dual-active-set"``,
+            :class:`~dolfinx_contact_s2s.condensation.DualCondensation`: the inactive
+            multipliers have no row of B; options under the problem's prefix + ``dual_``).
 
     Returns:
         The converged active set.
@@ -48,10 +53,21 @@ def solve_step(
         released = comp.released(active)
         system.build(released, load=step.load)
         run.check_active_support(step, released)
-        _warm_start(system, previous[-1] if previous else None)
-        run.solve_linear(step)
-        assert system.x is not None
-        previous[:] = [system.x.getArray(readonly=True).copy()]
+        if dual:
+            condensation = DualCondensation(
+                system, petsc_options_prefix=f"{system.options.prefix}dual_"
+            )
+            try:
+                condensation.solve()
+            except RuntimeError as error:
+                run.fail(f"solve {len(step.iterations) + 1} at load {step.load:g}: {error}")
+            finally:
+                condensation.destroy()
+        else:
+            _warm_start(system, previous[-1] if previous else None)
+            run.solve_linear(step)
+            assert system.x is not None
+            previous[:] = [system.x.getArray(readonly=True).copy()]
         return comp.evaluate(comp.lambdas(), comp.weighted_gaps())
 
     return iterate(run, step, active, evaluate)

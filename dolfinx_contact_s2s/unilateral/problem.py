@@ -36,7 +36,14 @@ from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 __all__ = ["ALGORITHMS", "DEFAULT_PENALTY", "STARTS", "UnilateralContactProblem"]
 
 #: The solution algorithms (see the package docstring).
-ALGORITHMS = ("active-set", "condensed-active-set", "snes-vi", "penalty", "augmented-lagrangian")
+ALGORITHMS = (
+    "active-set",
+    "condensed-active-set",
+    "dual-active-set",
+    "snes-vi",
+    "penalty",
+    "augmented-lagrangian",
+)
 
 #: First active set of the first load step: the multipliers of the nearest points
 #: (smallest initial gap, and every penetration; then the next nearest until the set
@@ -50,6 +57,7 @@ STARTS = ("nearest", "tied", "gap")
 DEFAULT_PENALTY = {
     "active-set": 1.0,
     "condensed-active-set": 1.0,
+    "dual-active-set": 1.0,
     "snes-vi": 1.0,
     "penalty": 100.0,
     # 100, not 10: a quadrilateral/triangle patch test took 17 updates at 10, 8 at 100.
@@ -135,7 +143,7 @@ class UnilateralContactProblem(ContactProblemBase):
             raise ValueError(f"algorithm must be one of {ALGORITHMS}, not {algorithm!r}")
         if start not in STARTS:
             raise ValueError(f"start must be one of {STARTS}, not {start!r}")
-        if algorithm in ("snes-vi", "condensed-active-set") and options.get("kind", "aij") != "aij":
+        if algorithm in ALGORITHMS[1:4] and options.get("kind", "aij") != "aij":
             raise ValueError(f"the {algorithm!r} algorithm needs kind='aij'")
         if penalty is None:
             penalty = DEFAULT_PENALTY[algorithm]
@@ -156,6 +164,10 @@ class UnilateralContactProblem(ContactProblemBase):
         self._complementarity: Complementarity | None = None
         try:
             check_inequality_multipliers(pairs)
+            if algorithm == "dual-active-set" and not all(getattr(p, "dual", 0) for p in pairs):
+                raise ValueError(
+                    "the 'dual-active-set' algorithm needs multiplier=('Dual', k) on every pair"
+                )
         except ValueError:
             self.destroy()
             raise
@@ -243,6 +255,7 @@ class UnilateralContactProblem(ContactProblemBase):
         step_solver: Callable[..., list[npt.NDArray[np.bool_]]] = {
             "active-set": active_set.solve_step,
             "condensed-active-set": getattr(condensed_run, "solve_step", None),
+            "dual-active-set": lambda *args: active_set.solve_step(*args, dual=True),
             "snes-vi": snes_vi.solve_step,
             "penalty": penalty.solve_step,
             "augmented-lagrangian": lambda *args: penalty.solve_step(*args, augmented=True),
