@@ -98,6 +98,8 @@ def test_patch_test_unilateral(algorithm, cell, degree):
     ) as problem:
         (u,), (lam,) = problem.solve()
         tol = min(BOUND, 100 * EPS * _unknowns(V, pr))
+        if algorithm == "dual-active-set":
+            tol = BOUND  # CG to rtol 1e-12: the iteration's error, not round-off
         n = pr.Q.dofmap.index_map.size_local
         assert problem.history.steps[-1].converged
         # Every multiplier active: the count of the last iteration is all of them.
