@@ -395,21 +395,22 @@ def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:
 def _dual_mass(space: MultiplierSpace, M: PETSc.Mat) -> None:
     r"""Overwrite the mass ``M`` of :math:`\mu_k` with that of the dual basis :math:`\psi_k`.
 
-    The dual functions are discontinuous between edges: the mass is summed edge by edge,
-    :math:`h_e` times :attr:`~dolfinx_contact_s2s.multiplier.MultiplierSpace.dual_mass`
-    (straight edges), on the pattern of ``M`` (the same cell dofs).
+    Facet by facet (:math:`\psi_k` is discontinuous between facets): :math:`|\det J|`
+    times :attr:`~dolfinx_contact_s2s.multiplier.MultiplierSpace.dual_mass` (affine
+    facets), on ``M``'s pattern.
     """
-    Q = space.Q
-    mesh = Q.mesh
-    cells = mesh.topology.index_map(mesh.topology.dim).size_local
-    nodes = mesh.geometry.x[geometry_dofmap(mesh)[:cells, :2]]
-    lengths = np.linalg.norm(nodes[:, 1] - nodes[:, 0], axis=1)
+    Q, mesh = space.Q, space.Q.mesh
+    tdim = mesh.topology.dim
+    cells = mesh.topology.index_map(tdim).size_local
+    x = mesh.geometry.x[geometry_dofmap(mesh)[:cells, : tdim + 1]]
+    J = np.stack([x[:, i] - x[:, 0] for i in range(1, tdim + 1)], axis=2)
+    scales = np.sqrt(np.linalg.det(np.einsum("cgi,cgj->cij", J, J)))
     local = Q.dofmap.list[:cells]
     dofs = Q.dofmap.index_map.local_to_global(local.reshape(-1))
     dofs = dofs.reshape(local.shape).astype(PETSc.IntType)  # also without cells on this rank
     M.zeroEntries()
     for c in range(cells):
-        M.setValues(dofs[c], dofs[c], lengths[c] * space.dual_mass, addv=PETSc.InsertMode.ADD)
+        M.setValues(dofs[c], dofs[c], scales[c] * space.dual_mass, addv=PETSc.InsertMode.ADD)
     M.assemble()
 
 

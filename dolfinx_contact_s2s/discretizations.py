@@ -189,16 +189,14 @@ class Discretization:
                 self.method == "segment-to-segment"
                 and quadrature.startswith("composite")
                 and multiplier[1] == contactor.element.degree
-                and contactor.facet_dim == 1
             )
         ):
             raise ValueError(
                 "dual multipliers are implemented as ('Dual', k), k the contactor's "
                 f"displacement degree ({contactor.element.degree}: the basis is "
-                "biorthogonal to its trace), with segment-to-segment and a composite rule "
-                "on 2D contactors only"
+                "biorthogonal to its trace), with segment-to-segment and a composite rule"
             )
-        continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG")
+        continuous = multiplier is None or multiplier[0] in ("Lagrange", "P", "CG", "Dual")
         s2s = self.method == "segment-to-segment" and quadrature == "composite-gauss"
         if contactor.facet_dim == 2 and not (
             (s2s and continuous) or self.method == "node-to-segment"
@@ -245,9 +243,12 @@ class Discretization:
                 "the plane: their biorthogonal basis (2 mu_i - mu_j on P1) holds for a "
                 "constant Jacobian and no ring weight"
             )
-        return facet_space(
+        space = facet_space(
             pair.contactor, pair.multiplier_degree, not pair.multiplier_continuous, variant, dual
         )
+        if dual:
+            space.check_dual()
+        return space
 
     def duplicates(self, pair: PairLike, gathered: Sequence[SurfaceData]) -> npt.NDArray[np.int64]:
         """Global multiplier dofs left out at construction (none by default)."""

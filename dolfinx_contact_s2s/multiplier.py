@@ -49,10 +49,10 @@ class MultiplierSpace:
             coordinates :math:`\xi` is :math:`X_0 + \xi_1 (X_1 - X_0) + \xi_2 (X_2 - X_0)`
             (a symmetry of the reference triangle or square). ``None`` on edges.
         dual: Whether :meth:`basis` is the dual (biorthogonal) basis of the Lagrange
-            basis :math:`\mu_k` on straight edges (Wohlmuth): on each edge
+            basis :math:`\mu_k` on affine facets (Wohlmuth): on each facet
             :math:`\psi_i = \sum_j A_{ij} \mu_j` (:attr:`dual_coefficients`), so that
             :math:`\int_e \psi_i \mu_j = \delta_{ij} \int_e \mu_j` and
-            :math:`\sum_i \psi_i = 1`; P1: :math:`\psi_i = 2 \mu_i - \mu_j`.
+            :math:`\sum_i \psi_i = 1`; P1 edges: :math:`\psi_i = 2 \mu_i - \mu_j`.
     """
 
     Q: dolfinx.fem.FunctionSpace
@@ -99,28 +99,30 @@ class MultiplierSpace:
         ``(F, (s + 1)^2, num_dofs)``: :meth:`basis` at :math:`\xi` is
         :math:`\sum_{ij} \xi_1^i \xi_2^j` times row :math:`j (s + 1) + i`.
         """
-        return fit_monomials(self.element, self.element.degree, self.corners)
+        coefficients = fit_monomials(self.element, self.element.degree, self.corners)
+        return coefficients @ self.dual_coefficients.T if self.dual else coefficients
 
     @functools.cached_property
     def dual_coefficients(self) -> npt.NDArray[np.floating]:
-        r"""The dual basis on an edge, :math:`\mathbf A = \mathbf D \mathbf M^{-1}` (cell dofs).
+        r"""The dual basis on a facet, :math:`\mathbf A = \mathbf D \mathbf M^{-1}` (cell dofs).
 
-        :math:`\mathbf M` is the mass on the reference edge and :math:`\mathbf D` its row
-        sums (:math:`\int_e \mu_j`): on a straight edge the length cancels.
+        :math:`\mathbf M` is the mass on the reference cell and :math:`\mathbf D` its row
+        sums (:math:`\int_e \mu_j`): on an affine facet the Jacobian cancels.
         Biorthogonality is :math:`\mathbf A \mathbf M = \mathbf D`; the columns of
         :math:`\mathbf A` sum to 1. The quadratic edge's :math:`\int_e \mu_j` (1/6, 1/6,
-        2/3) are positive: no modified basis is needed (the quadratic triangle's vanish).
+        2/3) are positive, as are Q1's and Q2's: no modified basis is needed (the
+        quadratic triangle's vanish: refused, :meth:`check_dual`).
         """
-        return np.linalg.solve(self._edge_mass, np.diag(self._edge_mass.sum(axis=1))).T
+        return np.linalg.solve(self._reference_mass, np.diag(self._reference_mass.sum(axis=1))).T
 
     @functools.cached_property
     def dual_mass(self) -> npt.NDArray[np.floating]:
-        r""":math:`\int_e \psi_i \psi_j = \mathbf D \mathbf M^{-1} \mathbf D` on a unit edge."""
-        return self.dual_coefficients @ np.diag(self._edge_mass.sum(axis=1))
+        r""":math:`\int_e \psi_i \psi_j = \mathbf D \mathbf M^{-1} \mathbf D`, reference cell."""
+        return self.dual_coefficients @ np.diag(self._reference_mass.sum(axis=1))
 
     @functools.cached_property
-    def _edge_mass(self) -> npt.NDArray[np.floating]:
-        points, weights = basix.make_quadrature(basix.CellType.interval, 2 * self.element.degree)
+    def _reference_mass(self) -> npt.NDArray[np.floating]:
+        points, weights = basix.make_quadrature(self.element.cell_type, 2 * self.element.degree)
         mu = tabulate(self.element, 0, points)[0]
         return mu.T @ (weights[:, None] * mu)
 
@@ -144,7 +146,34 @@ class MultiplierSpace:
             return mu @ self.dual_coefficients.T if self.dual else mu
         X0, X1, X2 = (self.corners[rows, i] for i in range(3))
         X = X0 + xi[:, :1] * (X1 - X0) + xi[:, 1:2] * (X2 - X0)
-        return tabulate(self.element, 0, X)[0]
+        mu = tabulate(self.element, 0, X)[0]
+        return mu @ self.dual_coefficients.T if self.dual else mu
+
+    def check_dual(self) -> None:
+        """Raise ``ValueError`` where the dual basis is not defined (collective).
+
+        A basis function of zero integral (the quadratic triangle's vertices) has no dual
+        partner; on a quadrilateral that is not a parallelogram the Jacobian is not
+        constant, so the combination :attr:`dual_coefficients` is not biorthogonal.
+        """
+        integrals = self._reference_mass.sum(axis=1)
+        problem = ""
+        if np.min(integrals) <= 1e-12 * np.max(integrals):
+            problem = f"P{self.element.degree} on a {self.element.cell_type.name} has basis "
+            problem += "functions of zero integral"
+        mesh = self.Q.mesh
+        cells = mesh.topology.index_map(mesh.topology.dim).size_local
+        if self.element.cell_type == basix.CellType.quadrilateral and cells:
+            x = mesh.geometry.x[geometry_dofmap(mesh)[:cells, :4]]
+            skew = np.linalg.norm(x[:, 0] + x[:, 3] - x[:, 1] - x[:, 2], axis=1)
+            if np.any(skew > 1e-10 * np.linalg.norm(x[:, 1] - x[:, 0], axis=1)):
+                problem = "a contactor face is not a parallelogram"
+        problems = [p for p in mesh.comm.allgather(problem) if p]
+        if problems:
+            raise ValueError(
+                f"dual multipliers need a positive integral of every basis function and "
+                f"affine facets: {problems[0]} (use a Lagrange multiplier)"
+            )
 
 
 def facet_space(
@@ -181,7 +210,7 @@ def facet_space(
     cells = parent_to_sub[data.facets]
     if fdim == 2:
         return MultiplierSpace(
-            Q, element, cells, np.zeros(len(data), bool), _face_corners(data, submesh, cells)
+            Q, element, cells, np.zeros(len(data), bool), _face_corners(data, submesh, cells), dual
         )
     # The submesh cell may run against the facet parametrisation: s = xi or 1 - xi.
     rows = np.arange(len(data), dtype=np.int32)

@@ -537,7 +537,7 @@ def contact_pair(
             :math:`\mathcal M^0_{h,s}` (discontinuous, :math:`s \ge 0`), on the contactor
             facets. Default ``None``: continuous, of the contactor's displacement degree.
             ``("Dual", k)``: the dual basis of Pk, k the contactor's displacement degree
-            (1 or 2; segment-to-segment, straight 2D facets).
+            (segment-to-segment; straight edges, triangles, parallelograms; not P2 triangles).
             Node-based methods and the intermediate surface need the default.
         quadrature: The rule integrating Eq. (17), one of
             :data:`~dolfinx_contact_s2s.quadrature.RULES`: ``"composite-gauss"`` or

@@ -273,3 +273,76 @@ def test_condensation_refuses_what_it_cannot_eliminate():
             message = str(error)
     messages = comm.allgather(message)
     assert all(m is not None and "block of B diagonal" in m for m in messages), messages
+
+
+def _blocks_3d(kinds, degree, **options):
+    """The 3D patch-test blocks of :mod:`paper.blocks3d`, the upper one the contactor."""
+    from dolfinx_contact_s2s.problem import LinearContactProblem
+    from paper.blocks3d import BOTTOM, TOP, scene
+
+    ((V_lo, t_lo), (V_up, t_up)), a, L, bcs = scene(*kinds, degree, **options)
+    pair = contact_pair(
+        contact_surface(V_up, t_up, BOTTOM),
+        contact_surface(V_lo, t_lo, TOP),
+        multiplier=("Dual", degree),
+    )
+    return LinearContactProblem(a, L, [pair], bcs, petsc_options_prefix="dual3d_")
+
+
+@pytest.mark.parametrize(
+    "cells, degree",
+    [(("hex", "tet"), 1), (("tet", "tet"), 1), (("tet", "hex"), 1), (("tet", "hex"), 2)],
+)
+def test_patch_test_3d(cells, degree):
+    """Triangle and (rectangular) quadrilateral faces, P1 and Q2: the uniform pressure and
+    uniaxial stress to round-off, by the saddle point and by CG + GAMG on the condensed
+    system (which checks that the contactor's block of B is diagonal)."""
+    from dolfinx_contact_s2s.condensation import DualCondensation
+    from paper.blocks3d import E, P, errors
+
+    with _blocks_3d(cells, degree, seed=1) as problem:
+        for solve in ("saddle point", "condensed"):
+            if solve == "saddle point":
+                problem.solve()
+            else:
+                condensation = DualCondensation(problem, petsc_options_prefix="dual3d_cg_")
+                try:
+                    condensation.solve()
+                    assert 0 < condensation.iterations < 100
+                finally:
+                    condensation.destroy()
+            worst_p, worst_u = errors(problem.u, problem.multipliers[0])
+            assert worst_p <= 1e-10 * P and worst_u <= 1e-10 * P / E, solve
+
+
+@pytest.mark.parametrize(
+    "cells, degree, options, match",
+    [
+        (("hex", "tet"), 2, {}, "zero integral"),
+        (("hex", "hex"), 1, {"seed": 3, "warp": True}, "not a parallelogram"),
+    ],
+    ids=["P2-triangles", "warped-quadrilaterals"],
+)
+def test_refused_on_faces(cells, degree, options, match):
+    """P2 triangles (vertex functions of zero integral: no dual partner) and faces that
+    are not parallelograms (no constant combination): a clear error on every rank."""
+    with pytest.raises(ValueError, match=match):
+        _blocks_3d(cells, degree, **options)
+
+
+@pytest.mark.parametrize("cells", [("hex", "tet"), ("tet", "hex")])
+def test_inf_sup_stable_3d(cells):
+    """Eq. (27) in 3D with dual P1 multipliers on triangle and square faces: beta*_h
+    bounded on four levels (the log-log slope below the 2D tables' criterion), as the
+    Lagrange multipliers' (``tests/test_contact_3d.py``)."""
+    from dolfinx_contact_s2s.analysis.infsup import inf_sup
+    from paper.infsup import STABLE_SLOPE
+
+    levels, betas = (2, 4, 6, 8), []
+    for n in levels:
+        with _blocks_3d(cells, 1, cells=(n + 1, n), layers=n // 2) as problem:
+            result = inf_sup(problem, 1.0 / n)
+            assert result.pressure_modes == 0 and result.beta > 0
+            betas.append(result.beta)
+    slope = np.polyfit(np.log(1.0 / np.array(levels[1:])), np.log(betas[1:]), 1)[0]
+    assert abs(slope) < STABLE_SLOPE, (betas, slope)
