@@ -346,3 +346,25 @@ def test_inf_sup_stable_3d(cells):
             betas.append(result.beta)
     slope = np.polyfit(np.log(1.0 / np.array(levels[1:])), np.log(betas[1:]), 1)[0]
     assert abs(slope) < STABLE_SLOPE, (betas, slope)
+
+
+@pytest.mark.parametrize("cells, degree", [(("hex", "tet"), 1), (("tet", "hex"), 2)])
+def test_unilateral_patch_test_3d(cells, degree):
+    """``algorithm="dual-active-set"`` in 3D: every constraint closes and the pressure and
+    uniaxial stress are transmitted to CG's accuracy (rtol 1e-12)."""
+    from dolfinx_contact_s2s.unilateral import UnilateralContactProblem
+    from paper.blocks3d import BOTTOM, TOP, E, P, errors, scene
+
+    ((V_lo, t_lo), (V_up, t_up)), a, L, bcs = scene(*cells, degree, seed=2)
+    pair = contact_pair(
+        contact_surface(V_up, t_up, BOTTOM),
+        contact_surface(V_lo, t_lo, TOP),
+        multiplier=("Dual", degree),
+    )
+    with UnilateralContactProblem(
+        a, L, [pair], bcs, petsc_options_prefix="dual3d_u_", algorithm="dual-active-set"
+    ) as problem:
+        us, (pressure,) = problem.solve()
+        worst_p, worst_u = errors(us, pressure)
+        assert worst_p <= 1e-10 * P and worst_u <= 1e-10 * P / E
+        assert problem.history.steps[-1].converged
