@@ -289,8 +289,12 @@ class DualCondensation:
         """CG iterations of the last solve."""
         return self.ksp.getIterationNumber()
 
-    def solve(self) -> None:
+    def solve(self, guess: npt.NDArray[np.floating] | None = None) -> None:
         """Solve the condensed system, recover the multipliers, check Eq. (18).
+
+        Args:
+            guess: The system's local solution array of a nearby problem (the previous
+                active set's) to start CG from: its displacements, zero at the slaves.
 
         Raises:
             RuntimeError: On every rank, if CG fails or the saddle point's residual is
@@ -304,6 +308,12 @@ class DualCondensation:
         rhs.aypx(-1.0, b)  # F - K c on the displacements (T has no multiplier rows)
         reduced, x = self.T.createVecRight(), self.T.createVecRight()
         self.T.multTranspose(rhs, reduced)
+        if guess is not None and guess.size == system.x.getLocalSize():
+            start, end = self.reduced.getOwnershipRange()
+            slaves = self.slaves["slave"]
+            x.array[:] = guess[self.u_rows]
+            x.array[slaves[(slaves >= start) & (slaves < end)] - start] = 0.0
+            self.ksp.setInitialGuessNonzero(True)
         with system.timed("solve"):
             self.ksp.solve(reduced, x)
         if self.ksp.getConvergedReason() < 0:
