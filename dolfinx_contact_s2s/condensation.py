@@ -228,8 +228,11 @@ class DualCondensation:
         order = np.lexsort((cols, rows))
         n = A.getLocalSize()[0]
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))])
+        # The reduced unknowns are nodes' displacement vectors: GAMG aggregates by nodes.
+        bs = {V.dofmap.index_map_bs for V in self.system.spaces}
         T = PETSc.Mat().createAIJ(
             [A.getSizes()[0], self.reduced.getSizes()],
+            bsize=(1, bs.pop() if len(bs) == 1 else 1),
             csr=(
                 indptr.astype(PETSc.IntType),
                 cols[order].astype(PETSc.IntType),
