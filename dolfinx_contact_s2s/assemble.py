@@ -392,12 +392,12 @@ def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:
             v.destroy()
 
 
-def _dual_mass(space: MultiplierSpace, M: PETSc.Mat) -> None:
-    r"""Overwrite the mass ``M`` of :math:`\mu_k` with that of the dual basis :math:`\psi_k`.
+def _dual_mass(space: MultiplierSpace) -> PETSc.Mat:
+    r"""The mass of the dual basis :math:`\psi_k` (collective; the caller destroys it).
 
     Facet by facet (:math:`\psi_k` is discontinuous between facets): :math:`|\det J|`
     times :attr:`~dolfinx_contact_s2s.multiplier.MultiplierSpace.dual_mass` (affine
-    facets), on ``M``'s pattern.
+    facets), summed by :func:`coo_matrix`.
     """
     Q, mesh = space.Q, space.Q.mesh
     tdim = mesh.topology.dim
@@ -406,12 +406,10 @@ def _dual_mass(space: MultiplierSpace, M: PETSc.Mat) -> None:
     J = np.stack([x[:, i] - x[:, 0] for i in range(1, tdim + 1)], axis=2)
     scales = np.sqrt(np.linalg.det(np.einsum("cgi,cgj->cij", J, J)))
     local = Q.dofmap.list[:cells]
-    dofs = Q.dofmap.index_map.local_to_global(local.reshape(-1))
-    dofs = dofs.reshape(local.shape).astype(PETSc.IntType)  # also without cells on this rank
-    M.zeroEntries()
-    for c in range(cells):
-        M.setValues(dofs[c], dofs[c], scales[c] * space.dual_mass, addv=PETSc.InsertMode.ADD)
-    M.assemble()
+    dofs = Q.dofmap.index_map.local_to_global(local.reshape(-1)).reshape(local.shape)
+    blocks = scales[:, None, None] * space.dual_mass
+    imap = Q.dofmap.index_map
+    return coo_matrix(mesh.comm, [(dofs, dofs, blocks)], imap, imap, 1)
 
 
 def _lumped(pair: ContactPair, M: PETSc.Mat) -> PETSc.Mat:
@@ -448,10 +446,10 @@ def multiplier_mass(pair: ContactPair) -> PETSc.Mat:
     Q = pair.Q
     p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
     w = 2 * np.pi * ufl.SpatialCoordinate(Q.mesh)[0] if pair.axisymmetric else 1.0
+    if getattr(pair.multiplier, "dual", False):
+        return _dual_mass(pair.multiplier)
     M = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(ufl.inner(p, q) * w * ufl.dx))
     M.assemble()
-    if getattr(pair.multiplier, "dual", False):
-        _dual_mass(pair.multiplier, M)
     if not pair.nodal:
         return M
     D = _lumped(pair, M)
