@@ -8,16 +8,20 @@ P1 and P2 displacements (and geometry of the same degree), at each ``n``:
 
 - the coupling: the wall time of :func:`dolfinx_contact_s2s.assemble.assemble_coupling`
   (search, facet geometry, composite integration of Eq. 40 and insertion into PETSc),
-  per sub-segment of the composite rule, for every kernel backend present;
+  per sub-segment of the composite rule, for every kernel backend present: its first
+  assembly on a new pair, which finds the blocks' CSR structure, and the best of the
+  later ones, which reuse it (:class:`~dolfinx_contact_s2s.assemble.CooPattern`; all of
+  the geometry, search and integration is done again);
 - the stiffness: the wall time of :func:`dolfinx.fem.petsc.assemble_matrix` of the
-  elasticity forms of both strips into their existing matrices, per cell (the time with
-  the matrices' creation, sparsity and preallocation, is recorded beside it: the
-  coupling always creates its matrix, so the headline ratio is the stricter one).
+  elasticity forms of both strips into their existing matrices, per cell, and the time
+  of its first assembly, which creates the matrices (sparsity and preallocation).
 
 The figure is the coupling's throughput (sub-segments per second) over the stiffness
-assembly's (cells per second), both from this run; the goal is >= 1 (a facet of contact
-costs no more than a cell). The headline ratio is the smallest over the degrees and
-sizes, with the compiled backend when there is one.
+assembly's (cells per second), both from this run: later assemblies against assembly
+into the existing matrices (the headline), and first against first beside it. Issue
+24's goal is >= 2 (a sub-segment costs at most half a cell) at every size from 1e3 to
+1e6 contact facets. The headline ratio is the smallest over the degrees and sizes, with
+the compiled backend when there is one.
 
 Writes ``results/bench/p1_coupling.json`` and ``p1_coupling.png``.
 """
@@ -52,7 +56,7 @@ parser.add_argument("--out", type=Path, default=Path("results/bench"))
 args = parser.parse_args()
 comm = MPI.COMM_WORLD
 log = Progress(comm, "P1")
-sizes = args.sizes or ([20, 40] if args.smoke else [1000, 10000, 100000])
+sizes = args.sizes or ([20, 40] if args.smoke else [1000, 10000, 100000, 1000000])
 present = backends()
 log(f"backends present: {present}; sizes {sizes}; degrees {args.degrees}")
 
@@ -85,7 +89,7 @@ def surfaces_and_pair(scene, spaces, degree, backend):
 
 def measure(degree, n):
     """The stiffness assembly and the coupling (every backend) of the strips of size ``n``."""
-    repeat = 3 if n <= 10000 else 1
+    repeat = 3 if n <= 10000 else 2
     m = max(1, round(0.7 * n))
     with log.step(f"P{degree}, n = {n}: meshing two strips ({m} and {n} facets)"):
         scene = patch_test(
@@ -140,21 +144,25 @@ def measure(degree, n):
         )
         # The sub-segments (groups of the pair's blocks), counted outside the timing.
         segments = comm.allreduce(sum(b.rows.shape[0] for b in pair.coupling_blocks()))
+        op, t_first = best(lambda pair=pair: assemble_coupling(pair), 1)
+        op.destroy()
         op, t_coupling = best(lambda pair=pair: assemble_coupling(pair), repeat)
         op.destroy()
         entry = {
             "ran": backend_name(surfaces["upper"]),
             "setup_seconds": t_setup,
             "coupling_seconds": t_coupling,
+            "coupling_first_seconds": t_first,
             "sub_segments": segments,
             "sub_segments_per_second": segments / t_coupling,
             "ratio": (segments / t_coupling) / (cells / t_stiffness),
-            "ratio_with_creation": (segments / t_coupling) / (cells / t_create),
+            "ratio_with_creation": (segments / t_first) / (cells / t_create),
         }
         row["backends"][name] = entry
         log(
             f"  coupling [{name}]: {segments} sub-segments in {t_coupling:.3f} s "
-            f"({segments / t_coupling:.3g}/s): ratio {entry['ratio']:.3f} "
+            f"({segments / t_coupling:.3g}/s): ratio {entry['ratio']:.3f}, first assembly "
+            f"{t_first:.3f} s ({entry['ratio_with_creation']:.3f} against the first stiffness) "
             f"(surfaces and pair set up in {t_setup:.2f} s)"
         )
     return row
@@ -186,8 +194,9 @@ record = make_record(
     ratio=ratio,
     smoke=args.smoke,
     ratio_definition=(
-        "min over degree and n of (sub_segments / t_assemble_coupling) / "
-        "(cells / t_assemble_matrix into the existing matrices)"
+        "min over degree and n of (sub_segments / t_assemble_coupling, best of the "
+        "assemblies after the first) / (cells / t_assemble_matrix into the existing "
+        "matrices)"
     ),
     backends_present=present,
     worst_case={"degree": worst["degree"], "n": worst["n"]},
@@ -195,7 +204,7 @@ record = make_record(
     backend_speedup_over_numpy=speedups,
 )
 write_record(args.out, record, comm)
-log(f"P1 = {ratio:.3f} (goal >= 1) at P{worst['degree']}, n = {worst['n']} [{headline}]")
+log(f"P1 = {ratio:.3f} (goal >= 2) at P{worst['degree']}, n = {worst['n']} [{headline}]")
 
 if comm.rank == 0:
     import matplotlib
@@ -234,7 +243,7 @@ if comm.rank == 0:
     ax.set_xlabel("contactor facets n")
     ax.set_ylabel("per second (cells or sub-segments)")
     ax.legend(fontsize=7)
-    bx.axhline(1.0, color="k", lw=0.8, ls=":", label="goal")
+    bx.axhline(2.0, color="k", lw=0.8, ls=":", label="goal")
     bx.set_xlabel("contactor facets n")
     bx.set_ylabel("coupling / stiffness throughput")
     bx.legend(fontsize=7)

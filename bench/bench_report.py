@@ -317,7 +317,7 @@ def p1_limits(r):
     for degree in sorted({row["degree"] for row in r["rows"]}):
         rows = sorted((row for row in r["rows"] if row["degree"] == degree), key=lambda x: x["n"])
         for backend in rows[0]["backends"]:
-            missed = [row for row in rows if row["backends"][backend]["ratio"] < 1.0]
+            missed = [row for row in rows if row["backends"][backend]["ratio"] < r["goal"]["value"]]
             if not missed or len(rows) < 2 or backend == "numpy":
                 continue
             (s0, t0), (s1, t1) = [

@@ -11,6 +11,7 @@ rows to copies. This module needs petsc4py and must be imported explicitly, as
 from __future__ import annotations
 
 import typing
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -31,6 +32,7 @@ from dolfinx_contact_s2s.quadrature import interval_rule
 
 __all__ = [
     "UNCOVERED_TOLERANCE",
+    "CooPattern",
     "CouplingOperator",
     "assemble_coupling",
     "coo_matrix",
@@ -38,12 +40,10 @@ __all__ = [
 ]
 
 
-def _to_owners(
-    comm: MPI.Comm, rows: npt.NDArray[np.int64], payload: list[npt.NDArray], row_starts: npt.NDArray
-) -> tuple[npt.NDArray[np.int64], list[npt.NDArray]]:
-    """Send entries to the processes that own their rows (``row_starts``: ownership offsets)."""
-    if comm.size == 1:
-        return rows, list(payload)
+def _owners(
+    comm: MPI.Comm, rows: npt.NDArray[np.int64], row_starts: npt.NDArray
+) -> tuple[npt.NDArray | None, npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """How entries go to the processes owning their rows: order, send and receive counts."""
     rank = comm.rank
     outside = (rows < row_starts[rank]) | (rows >= row_starts[rank + 1])
     if not outside.any():
@@ -60,13 +60,52 @@ def _to_owners(
         send_counts = np.bincount(owner, minlength=comm.size).astype(np.int64)
     recv_counts = np.empty_like(send_counts)
     comm.Alltoall(send_counts, recv_counts)
+    return order, send_counts, recv_counts
+
+
+def _send(comm: MPI.Comm, plan: tuple | None, arrays: list[npt.NDArray]) -> list[npt.NDArray]:
+    """The entries ``arrays`` sent as :func:`_owners` planned (unchanged on one process)."""
+    if plan is None:
+        return arrays
+    order, send_counts, recv_counts = plan
     out = []
-    for array in [rows, *payload]:
+    for array in arrays:
         array = np.ascontiguousarray(array if order is None else array[order])
         received = np.empty(int(recv_counts.sum()), dtype=array.dtype)
         comm.Alltoallv([array, send_counts], [received, recv_counts])
         out.append(received)
-    return out[0], out[1:]
+    return out
+
+
+class CooPattern:
+    """The structure of a :func:`coo_matrix` call, reused by later calls with the same indices.
+
+    DOLFINx assembles a form into a matrix whose sparsity it keeps. A contact pair's
+    indices (which dofs meet on which piece) change only when its pieces do: a call
+    whose index arrays equal the kept ones on every process only sends its values and
+    sums them into the kept slots of the CSR structure. The recorded call's index arrays
+    are kept, not copied: they must not be modified.
+    """
+
+    def __init__(self) -> None:
+        """An empty pattern: the next call records its structure."""
+        self.keys: list[tuple[npt.NDArray, npt.NDArray]] = []
+        self.sizes: list = []
+        self.plan: tuple | None = None
+        self.slots = np.zeros(0, dtype=np.int64)
+        self.csr: tuple[npt.NDArray, npt.NDArray] = (np.zeros(1, PETSc.IntType),) * 2
+
+    def matches(self, comm: MPI.Comm, parts: Sequence[tuple], sizes: list) -> bool:
+        """Whether every process's ``parts`` have the recorded index arrays (collective)."""
+        same = (
+            sizes == self.sizes
+            and len(self.keys) == len(parts)
+            and all(
+                np.array_equal(r, kr) and np.array_equal(c, kc)
+                for (r, c, _), (kr, kc) in zip(parts, self.keys, strict=False)
+            )
+        )
+        return comm.allreduce(same, op=MPI.LAND)
 
 
 def coo_matrix(
@@ -77,6 +116,7 @@ def coo_matrix(
     col_bs: int,
     backend: KernelBackend = numpy_backend,
     row_bs: int = 1,
+    pattern: CooPattern | None = None,
 ) -> PETSc.Mat:
     """Distributed AIJ matrix, the sum of local blocks ``(rows, cols, values)`` (collective).
 
@@ -84,41 +124,57 @@ def coo_matrix(
     (unrolled) indices of the maps with block sizes ``row_bs`` and ``col_bs``.
     Entries may belong to rows owned by other processes: they are sent to their
     owners, duplicates are summed (the kernel backend's ``coo_to_csr``), and the
-    matrix is created from its exact CSR structure.
+    matrix is created from its exact CSR structure. With a ``pattern`` whose indices
+    match, the structure is the pattern's; otherwise it is recorded in it.
     """
-    flat_i, flat_j, flat_v = [], [], []
-    for rows, cols, values in parts:
-        nr, nc = rows.shape[1], cols.shape[1]
-        flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
-        flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
-        flat_v.append(values.reshape(-1))
 
     def joined(arrays: list[npt.NDArray]) -> npt.NDArray:
         return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
+    values = joined([np.ravel(v) for _, _, v in parts])
+    start, n_rows = row_map.local_range[0] * row_bs, row_map.size_local * row_bs
+    sizes = [
+        [n_rows, row_map.size_global * row_bs],
+        [col_map.size_local * col_bs, col_map.size_global * col_bs],
+    ]
+    if pattern is not None and pattern.matches(comm, parts, sizes):
+        (v,) = _send(comm, pattern.plan, [values])
+        data = np.bincount(pattern.slots, weights=v, minlength=pattern.csr[1].size)
+        return _aij(comm, sizes, (*pattern.csr, data))
+    flat_i, flat_j = [], []
+    for rows, cols, _ in parts:
+        nr, nc = rows.shape[1], cols.shape[1]
+        flat_i.append(np.broadcast_to(rows[:, :, None], (rows.shape[0], nr, nc)).reshape(-1))
+        flat_j.append(np.broadcast_to(cols[:, None, :], (cols.shape[0], nr, nc)).reshape(-1))
     i = joined(flat_i).astype(np.int64, copy=False)
     j = joined(flat_j).astype(np.int64, copy=False)
-    starts = comm.allgather(row_map.local_range[0] * row_bs)
-    row_starts = np.array(starts + [row_map.size_global * row_bs])
-    i, (j, v) = _to_owners(comm, i, [j, joined(flat_v)], row_starts)
-    start, n_rows = row_map.local_range[0] * row_bs, row_map.size_local * row_bs
-    n_cols = col_map.size_global * col_bs
-    indptr, indices, data = backend.coo_to_csr(n_rows, i - start if start else i, j, v)
+    plan = None
+    if comm.size > 1:
+        starts = comm.allgather(start)
+        plan = _owners(comm, i, np.array(starts + [row_map.size_global * row_bs]))
+    i, j, v = _send(comm, plan, [i, j, values])
+    local_i = i - start if start else i
+    indptr, indices, data = backend.coo_to_csr(n_rows, local_i, j, v)
+    csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
+    if pattern is not None:
+        pattern.keys = [(r, c) for r, c, _ in parts]
+        pattern.plan, pattern.csr, pattern.sizes = plan, csr, sizes
+        slots = backend.csr_slots(indptr, indices, local_i, j)
+        pattern.slots = slots.astype(np.int32) if indices.size < 2**31 else slots
+    return _aij(comm, sizes, (*csr, data))
+
+
+def _aij(comm: MPI.Comm, sizes: list, csr: tuple) -> PETSc.Mat:
+    """The assembled AIJ matrix of local CSR arrays (copied by PETSc)."""
+    indptr, indices, data = csr
     A = PETSc.Mat().createAIJ(
-        [
-            [n_rows, row_map.size_global * row_bs],
-            [col_map.size_local * col_bs, n_cols],
-        ],
-        csr=(
-            indptr.astype(PETSc.IntType),
-            indices.astype(PETSc.IntType),
-            data.astype(PETSc.ScalarType),
-        ),
-        comm=comm,
+        sizes, csr=(indptr, indices, data.astype(PETSc.ScalarType)), comm=comm
     )
     A.assemble()
     return A
 
+
+_PATTERNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 #: A multiplier is uncovered when the part of its support that faces a target carries at
 #: most this fraction of its integral.
@@ -338,11 +394,16 @@ def assemble_coupling(
         else:
             add(b.target.V, part, spaces, parts)
 
-    def matrix(V: dolfinx.fem.FunctionSpace, p: list) -> PETSc.Mat:
-        return coo_matrix(comm, p, q_map, V.dofmap.index_map, V.dofmap.index_map_bs, backend)
+    # The structures of this pair's blocks, reused while its pieces stay the same.
+    patterns = _PATTERNS.setdefault(pair, {})
 
-    blocks = [(V, matrix(V, p)) for V, p in zip(spaces, parts, strict=True)]
-    rigid_blocks = [(t, matrix(t.V, p)) for t, p in zip(rigid, rigid_parts, strict=True)]
+    def matrix(V: dolfinx.fem.FunctionSpace, p: list, key: tuple) -> PETSc.Mat:
+        pattern = patterns.setdefault((*key, tangential), CooPattern())
+        imap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+        return coo_matrix(comm, p, q_map, imap, bs, backend, pattern=pattern)
+
+    blocks = [(V, matrix(V, parts[k], ("mesh", k))) for k, V in enumerate(spaces)]
+    rigid_blocks = [(t, matrix(t.V, rigid_parts[k], ("rigid", k))) for k, t in enumerate(rigid)]
     G = PETSc.Vec().createMPI([q_map.size_local, q_map.size_global], comm=comm)
     for b in groups:
         G.setValues(

@@ -37,6 +37,7 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.checks.bodies import orthonormal_nullspace
 from dolfinx_contact_s2s.options import PETScOptions, solver_failure
 from dolfinx_contact_s2s.problem import LinearContactProblem
 from dolfinx_contact_s2s.system import ContactSystem
@@ -275,15 +276,7 @@ class DualCondensation:
                 w.array[mine - start] = 0.0
                 modes.append(w)
             offset += size
-        for i, v in enumerate(modes):
-            for _ in range(2):
-                for u in modes[:i]:
-                    v.axpy(-u.dot(v), u)
-            v.normalize()
-        nullspace = PETSc.NullSpace().create(vectors=modes, comm=self.comm)
-        for v in modes:
-            v.destroy()
-        return nullspace
+        return orthonormal_nullspace(modes, self.comm)
 
     # --- the solve ----------------------------------------------------------------------
 

@@ -1,23 +1,27 @@
 # SPDX-License-Identifier: MIT
-r"""The bases on faces of 3D cells: the face's dofs only, no Basix per point; the blocks.
+r"""The bases on facets: the facet's dofs only, no Basix per point; the blocks on faces.
 
 On a face only its dofs' functions are nonzero, polynomials in :math:`Q_p` of the face
 coordinates :math:`\xi` (:func:`~dolfinx_contact_s2s.faces.reference_vertices`): their
 monomial coefficients are fitted once per local face from Basix's tabulation
 (:func:`fit_monomials`; the multiplier's once per contactor face). :func:`face_blocks`
 hands them to the kernels' ``face_coupling``, which integrates Eqs. (40)-(42) in one
-pass over the points.
+pass over the points. On the edges of 2D cells the same holds with polynomials in the
+edge's parameter (:func:`~dolfinx_contact_s2s.edges.facet_monomials`): the coupling
+blocks carry the edge's dofs only, not the zero columns of the cell's other dofs.
 """
 
 from __future__ import annotations
 
 import weakref
 
+import basix
 import numpy as np
 import numpy.typing as npt
 
 from dolfinx_contact_s2s import faces
 from dolfinx_contact_s2s.compat import tabulate
+from dolfinx_contact_s2s.edges import facet_monomials
 from dolfinx_contact_s2s.kernels.face_backend import monomials
 
 # Values below this are Basix's round-off, as ContactSurface.facet_basis drops them.
@@ -82,40 +86,58 @@ class FaceBasis:
         return out
 
 
-def _basis(surface) -> FaceBasis:
-    """The :class:`FaceBasis` of a surface's element, fitted once per surface."""
+class EdgeBasis:
+    """Coefficients ``table[l]`` in the edge parameter of the functions ``cols[l]`` on edge l."""
+
+    def __init__(self, element, cell) -> None:
+        """Keep, on each reference edge of ``cell``, the functions of ``element`` nonzero on it."""
+        x = basix.geometry(cell)
+        ends = np.array(basix.topology(cell)[1])
+        table = facet_monomials(element, x[ends[:, 0]], x[ends[:, 1]])
+        cols = [np.flatnonzero(np.any(t != 0.0, axis=0)) for t in table]
+        if len({c.size for c in cols}) != 1:
+            raise ValueError("edges with different numbers of dofs")
+        self.cols = np.stack(cols).astype(np.int64)
+        self.table = np.ascontiguousarray(np.take_along_axis(table, self.cols[:, None], axis=2))
+
+
+def _basis(surface) -> FaceBasis | EdgeBasis:
+    """The :class:`FaceBasis` (:class:`EdgeBasis`) of a surface's element, once per surface."""
     basis = _CACHE.get(surface)
     if basis is None:
-        basis = _CACHE[surface] = FaceBasis(surface.element, surface.cell_type)
+        kind = FaceBasis if surface.facet_dim == 2 else EdgeBasis
+        basis = _CACHE[surface] = kind(surface.element, surface.cell_type)
     return basis
 
 
 def face_nodes(surface) -> npt.NDArray[np.int64]:
-    """The displacement nodes of each local face of the surface's cell, in face-dof order."""
+    """The displacement nodes of each local facet of the surface's cell, in facet-dof order."""
     return _basis(surface).cols
 
 
-def _face_dofs(surface, data, groups, basis: FaceBasis, lf) -> npt.NDArray[np.int64]:
-    """The unrolled dofs of the functions ``basis.cols[lf]`` of each group's face."""
+def _face_dofs(surface, data, groups, basis, lf) -> npt.NDArray[np.int64]:
+    """The unrolled dofs of the functions ``basis.cols[lf]`` of each group's facet."""
     bs = surface.V.dofmap.index_map_bs
-    # Explicit sizes: a rank may have no groups.
-    nf = basis.cols.shape[1] * bs
-    cols = (basis.cols[lf][:, :, None] * bs + np.arange(bs)).reshape(len(groups), nf)
-    return np.take_along_axis(data.dofs[groups], cols, axis=1)
+    unrolled = (basis.cols[:, :, None] * bs + np.arange(bs)).reshape(basis.cols.shape[0], -1)
+    # One flat take: twice as fast as indexing data.dofs by rows and columns.
+    flat = unrolled[lf]
+    flat += (np.asarray(groups, dtype=np.int64) * data.dofs.shape[1])[:, None]
+    return np.take(data.dofs.reshape(-1), flat)
 
 
 def face_basis(surface, data, groups, nq, xi):
     """The scalar basis at the points of ``groups`` (``nq`` each) and their unrolled dofs.
 
     Returns ``(phi, dofs)``: ``(len(groups) * nq, nf)`` and ``(len(groups), nf * bs)``, the
-    face's dofs only on faces; on edges, every dof of the cell (``facet_basis``).
+    facet's own ``nf`` dofs (:func:`face_nodes`).
     """
-    rows = np.repeat(groups, nq)
-    if surface.facet_dim != 2:
-        return surface.facet_basis(data, rows, xi), data.dofs[groups]
     basis = _basis(surface)
     lf = data.local_facet[groups]
-    phi = basis.values(np.repeat(lf, nq), np.ascontiguousarray(xi, dtype=np.float64))
+    xi = np.ascontiguousarray(xi, dtype=np.float64)
+    if isinstance(basis, EdgeBasis):
+        phi = surface.backend.facet_basis(basis.table, np.repeat(lf, nq), xi)
+    else:
+        phi = basis.values(np.repeat(lf, nq), xi)
     return phi, _face_dofs(surface, data, groups, basis, lf)
 
 

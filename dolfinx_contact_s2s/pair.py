@@ -350,12 +350,9 @@ class ContactPair:
         if len(C) == 0:
             return None
         boxes = self.contactor.bounding_boxes(C)
-        return np.stack(
-            [
-                boxes[:, 0].min(axis=0) - self.search_radius,
-                boxes[:, 1].max(axis=0) + self.search_radius,
-            ]
-        )
+        # One axis at a time: NumPy reduces a narrow array along its first axis slowly.
+        lo = [boxes[:, 0, g].min() - self.search_radius for g in range(boxes.shape[2])]
+        return np.array([lo, [boxes[:, 1, g].max() + self.search_radius for g in range(len(lo))]])
 
     def coupling_blocks(self, tangent: tuple | None = None) -> list[CouplingBlocks]:
         r"""Integrate Eq. (17) as the method prescribes (Eqs. 37, 39 or 40), per target.
@@ -399,20 +396,19 @@ class ContactPair:
             return CouplingBlocks(ts, *face_blocks(self.multiplier, cs, C, ts, T, g, tangent))
         S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
-        rows_t = np.repeat(g.target, nq)
         # One parameter per point on an edge, two reference coordinates on a face.
         xi = np.ascontiguousarray(g.xi.reshape(S * nq, *g.xi.shape[2:]))
 
         kernels = cs.backend
         normals = -kernels.outward_normals(C.coefficients, C.orientation, rows_c, xi)
-        # Points, target points and gaps relative to the contactor facet's first point:
-        # differences of numbers of the size of the facets, so that a scene far from the
-        # origin loses nothing but the round-off of its own node coordinates.
-        local = np.arange(rows_c.size, dtype=np.int32)
-        c_local = C.coefficients[rows_c]
-        origin = c_local[:, 0].copy()
-        c_local = kernels.shift(c_local, -origin)
-        t_local = ts.backend.shift(T.coefficients[rows_t], -origin)
+        # Points, target points and gaps relative to the contactor facet's first point (one
+        # copy of each group's facets; point p is in group local[p]): differences of numbers
+        # of the size of the facets, so that a scene far from the origin loses nothing but
+        # the round-off of its own node coordinates.
+        local = np.repeat(np.arange(S, dtype=np.int32), nq)
+        origin = C.coefficients[g.contactor, 0]
+        c_local = kernels.shift(C.coefficients[g.contactor], -origin)
+        t_local = ts.backend.shift(T.coefficients[g.target], -origin)
         x_c, _ = kernels.evaluate(c_local, local, xi)
         eta = kernels.intersect(t_local, local, x_c, normals)
         np.clip(eta, 0.0, 1.0, out=eta)
@@ -431,7 +427,7 @@ class ContactPair:
             phi_c.reshape(S, nq, phi_c.shape[1]),
             phi_t.reshape(S, nq, phi_t.shape[1]),
             normals.reshape(S, nq, gdim),
-            self.point_weights(g, x_c + origin),
+            self.point_weights(g, x_c + origin[local] if self.axisymmetric else x_c),
             gaps.reshape(S, nq),
         )
         # Plain weights: a P2 vertex function on the axis has a zero r-weighted integral.

@@ -77,9 +77,13 @@ def box_pairs(
     empty = np.empty(0, dtype=np.int32)
     if a.shape[0] == 0 or b.shape[0] == 0:
         return empty, empty
-    # The same centres as ``mean(axis=1)`` (one sum, halved), without a strided reduction.
-    centres = np.concatenate([a[:, 0] + a[:, 1], b[:, 0] + b[:, 1]]) / 2.0
-    axis = int(np.argmax(centres.max(axis=0) - centres.min(axis=0)))
+    # The spread of the centres (twice: halving is exact) one axis at a time: NumPy
+    # reduces a narrow array along its first axis twenty times slower.
+    spread = []
+    for g in range(a.shape[2]):
+        centres = np.concatenate([a[:, 0, g] + a[:, 1, g], b[:, 0, g] + b[:, 1, g]])
+        spread.append(centres.max() - centres.min())
+    axis = int(np.argmax(spread))
     order = np.argsort(b[:, 0, axis], kind="stable")
     b_lo = b[order, 0, axis]
     width = float(np.max(b[:, 1, axis] - b[:, 0, axis]))

@@ -285,3 +285,44 @@ def test_partly_covered_multipliers(degree):
     np.testing.assert_array_equal(np.sort(op.unsigned), np.flatnonzero(unsigned))
     assert np.count_nonzero(whole) == (2 if degree == 1 else 5)
     op.destroy()
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_reassembly_keeps_the_structure_only(degree, monkeypatch):
+    """Later assemblies reuse the blocks' CSR structure, never their values.
+
+    Against a new pair's first assembly (its own structure found by ``coo_to_csr``): the
+    same pair assembled again, then with its upper surface tilted (new values on the
+    same pieces: the kept structure), then slid by a third of an element (new pieces:
+    a new structure). Equal to the last bit.
+    """
+    comm = MPI.COMM_WORLD
+    scene = patch_test(comm, (10, 7), cell="quadrilateral", geometry_degree=degree)
+    spaces = {
+        n: dolfinx.fem.functionspace(b.mesh, ("Lagrange", degree, (2,)))
+        for n, b in scene.bodies.items()
+    }
+    surf = {n: contact_surface(spaces[n], b.facet_tags, b.contact) for n, b in scene.bodies.items()}
+    pair = contact_pair(surf["upper"], surf["lower"])
+    backend = surf["upper"].backend
+    structures = []
+    coo_to_csr = backend.coo_to_csr
+    monkeypatch.setattr(backend, "coo_to_csr", lambda *a: structures.append(1) or coo_to_csr(*a))
+
+    def check(expected_structures: int) -> None:
+        del structures[:]
+        again = _dense(pair, spaces["upper"], spaces["lower"])
+        assert len(structures) == expected_structures
+        fresh = _dense(contact_pair(surf["upper"], surf["lower"]), spaces["upper"], spaces["lower"])
+        for a, b in zip(again, fresh, strict=True):
+            np.testing.assert_array_equal(a, b)
+
+    _dense(pair, spaces["upper"], spaces["lower"])
+    check(0)
+    u = dolfinx.fem.Function(spaces["upper"])
+    u.interpolate(lambda x: np.stack([np.zeros_like(x[0]), 1e-3 * x[0]]))
+    surf["upper"].set_displacement(u)
+    check(0)
+    u.interpolate(lambda x: np.stack([np.full_like(x[0], 0.3 / 10), np.zeros_like(x[0])]))
+    surf["upper"].set_displacement(u)
+    check(2)

@@ -289,21 +289,40 @@ def test_no_slivers_between_coinciding_nodes(kernel_backend):
     np.testing.assert_allclose(lengths, 1.0, atol=1e-8)
 
 
-@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)
-def test_coo_to_csr_against_scipy(kernel_backend):
-    """Duplicates summed, columns sorted: the CSR matrix SciPy builds from the same COO."""
+def _random_coo(seed: int):
+    """3000 random entries of a 50 x 90 matrix (with duplicates) and SciPy's CSR of them."""
     scipy_sparse = pytest.importorskip("scipy.sparse")
-    rng = np.random.default_rng(4)
+    rng = np.random.default_rng(seed)
     rows = rng.integers(0, 40, 3000)
     cols = rng.integers(0, 90, 3000)
     values = rng.normal(size=3000)
-    indptr, indices, data = kernel_backend.coo_to_csr(50, rows, cols, values)
     ref = scipy_sparse.coo_matrix((values, (rows, cols)), shape=(50, 90)).tocsr()
     ref.sum_duplicates()
     ref.sort_indices()
+    return rows, cols, values, ref
+
+
+@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)
+def test_coo_to_csr_against_scipy(kernel_backend):
+    """Duplicates summed, columns sorted: the CSR matrix SciPy builds from the same COO."""
+    rows, cols, values, ref = _random_coo(4)
+    indptr, indices, data = kernel_backend.coo_to_csr(50, rows, cols, values)
     np.testing.assert_array_equal(indptr, ref.indptr)
     np.testing.assert_array_equal(indices, ref.indices)
     np.testing.assert_allclose(data, ref.data, rtol=1e-14, atol=1e-14)
     empty = kernel_backend.coo_to_csr(3, np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0))
     np.testing.assert_array_equal(empty[0], np.zeros(4))
     assert empty[1].size == empty[2].size == 0
+
+
+@pytest.mark.parametrize("kernel_backend", BACKENDS, indirect=True)
+def test_csr_slots_sum_into_the_structure(kernel_backend):
+    """Values summed at their slots give SciPy's CSR data; an entry outside is refused."""
+    rows, cols, values, ref = _random_coo(5)
+    indptr, indices, _ = kernel_backend.coo_to_csr(50, rows, cols, values)
+    slots = kernel_backend.csr_slots(indptr, indices, rows, cols)
+    summed = np.bincount(slots, weights=values, minlength=indices.size)
+    np.testing.assert_allclose(summed, ref.data, rtol=1e-14, atol=1e-14)
+    absent = np.setdiff1d(np.arange(90), cols[rows == 7])[0]
+    with pytest.raises(ValueError, match="not in the CSR structure"):
+        kernel_backend.csr_slots(indptr, indices, np.array([7]), np.array([absent]))

@@ -20,7 +20,14 @@ import scipy.sparse.csgraph
 from dolfinx_contact_s2s.checks.linalg import petsc_vector
 from dolfinx_contact_s2s.compat import geometry_dofmap
 
-__all__ = ["Bodies", "body_set", "connected_components", "near_nullspace", "rigid_body_modes"]
+__all__ = [
+    "Bodies",
+    "body_set",
+    "connected_components",
+    "near_nullspace",
+    "orthonormal_nullspace",
+    "rigid_body_modes",
+]
 
 _INT64_MAX = np.iinfo(np.int64).max
 
@@ -232,14 +239,21 @@ def near_nullspace(
         :func:`rigid_body_modes` orthonormalized by modified Gram-Schmidt (twice). The
         caller destroys it.
     """
-    modes = rigid_body_modes(V, labels)
+    return orthonormal_nullspace(rigid_body_modes(V, labels), V.mesh.comm)
+
+
+def orthonormal_nullspace(modes: list[PETSc.Vec], comm: MPI.Comm) -> PETSc.NullSpace:
+    """The null space of ``modes`` orthonormalized by modified Gram-Schmidt (twice).
+
+    The modes are destroyed. Raises ``RuntimeError`` if one lies in the span of the others.
+    """
     for i, v in enumerate(modes):
         for _ in range(2):
             for u in modes[:i]:
                 v.axpy(-u.dot(v), u)
         if v.normalize() <= 0.0:
             raise RuntimeError(f"Rigid mode {i} of the space is zero.")
-    nullspace = PETSc.NullSpace().create(vectors=modes, comm=V.mesh.comm)
+    nullspace = PETSc.NullSpace().create(vectors=modes, comm=comm)
     for v in modes:
         v.destroy()
     return nullspace

@@ -121,13 +121,10 @@ class ContactTangent:
             base = surface.data
             extent = np.ptp(base.coords, axis=1).max(axis=1) if len(base) else np.zeros(0)
             h = self.step * max(comm.allgather(float(np.median(extent)) if extent.size else 0.0))
-            # Node k of a group's columns: the cell's k-th displacement node on edges (the
-            # columns are the cell's dofs), the face's k-th on faces (the face's dofs).
+            # Node k of a group's columns: the facet's k-th displacement node (the columns
+            # are the facet's dofs, face_nodes).
             W = surface.node_weights  # u at the geometry nodes from u at V's nodes
-            if surface.facet_dim == 2:
-                nodes = face_nodes(surface)[base.local_facet]
-            else:
-                nodes = np.broadcast_to(np.arange(W.shape[1]), (len(base), W.shape[1]))
+            nodes = face_nodes(surface)[base.local_facet]
             for k in range(nodes.shape[1]):
                 shift = W.T[nodes[:, k]]  # (facets, geometry nodes): moving u at node k
                 for d in range(base.coords.shape[2]):

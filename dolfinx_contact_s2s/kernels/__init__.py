@@ -179,6 +179,16 @@ class KernelBackend(typing.Protocol):
         """CSR arrays of COO entries, duplicates summed."""
         ...
 
+    def csr_slots(
+        self,
+        indptr: npt.NDArray[np.int64],
+        indices: npt.NDArray[np.int64],
+        rows: npt.NDArray[np.int64],
+        cols: npt.NDArray[np.int64],
+    ) -> npt.NDArray[np.int64]:
+        """Position in ``indices`` of each entry of a CSR structure (sorted columns)."""
+        ...
+
 
 def get_backend(
     name: str = "auto", comm: MPI.Comm = MPI.COMM_WORLD, facet_dim: int = 1

@@ -460,6 +460,29 @@ int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int6
   return out;
 }
 
+/* Position in indices of each entry (rows[e], cols[e]) of a CSR structure with sorted
+ * columns: a binary search in its row. -1 if an entry is not in the structure. */
+int64_t s2s_csr_slots(const int64_t *indptr, const int64_t *indices, int64_t n,
+                      const int64_t *rows, const int64_t *cols, int64_t *slots)
+{
+  for (int64_t e = 0; e < n; ++e)
+  {
+    int64_t lo = indptr[rows[e]], hi = indptr[rows[e] + 1], end = hi;
+    while (lo < hi)
+    {
+      int64_t mid = lo + (hi - lo) / 2;
+      if (indices[mid] < cols[e])
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    if (lo == end || indices[lo] != cols[e])
+      return -1;
+    slots[e] = lo;
+  }
+  return 0;
+}
+
 /* ---- Convex polygons in the plane (polygon.clip_convex, polygon.triangulate) ----------
  *
  * These reproduce the NumPy reference operation by operation, including the order of

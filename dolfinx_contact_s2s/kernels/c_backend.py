@@ -44,6 +44,7 @@ __all__ = [
     "clip_segments",
     "compiled",
     "coo_to_csr",
+    "csr_slots",
     "evaluate",
     "facet_basis",
     "facet_coefficients",
@@ -88,6 +89,8 @@ int64_t s2s_box_overlaps(const double *a, int64_t na, const double *b, int gdim,
                          int32_t *ia, int32_t *ib);
 int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
                        const double *values, int64_t *indptr, int64_t *indices, double *data);
+int64_t s2s_csr_slots(const int64_t *indptr, const int64_t *indices, int64_t n,
+                      const int64_t *rows, const int64_t *cols, int64_t *slots);
 int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_counts,
                       const double *clip, int mc, const int32_t *clip_counts, int P,
                       double round_off, int width, double *out, int32_t *counts);
@@ -509,6 +512,24 @@ def coo_to_csr(
     if nnz < 0:
         raise ValueError("row index out of range")
     return indptr, indices[:nnz].copy(), data[:nnz].copy()
+
+
+def csr_slots(
+    indptr: npt.NDArray[np.int64],
+    indices: npt.NDArray[np.int64],
+    rows: npt.NDArray[np.int64],
+    cols: npt.NDArray[np.int64],
+) -> npt.NDArray[np.int64]:
+    """See :func:`~dolfinx_contact_s2s.kernels.numpy_backend.csr_slots`."""
+    ffi, lib = _lib()
+    arrays = [np.ascontiguousarray(a, dtype=np.int64) for a in (indptr, indices, rows, cols)]
+    if rows.size and (arrays[2].min() < 0 or arrays[2].max() >= arrays[0].size - 1):
+        raise ValueError("row index out of range")
+    slots = np.empty(rows.size, dtype=np.int64)
+    p = [_ptr(ffi, a, "int64_t *") for a in (*arrays, slots)]
+    if lib.s2s_csr_slots(p[0], p[1], rows.size, p[2], p[3], p[4]) < 0:
+        raise ValueError("an entry is not in the CSR structure")
+    return slots
 
 
 def _polygons(polygons, counts, name: str) -> tuple[_Array, npt.NDArray[np.int32]]:

@@ -28,6 +28,7 @@ from dolfinx_contact_s2s.kernels.numpy_backend import (
     NEWTON_TOL,
     box_overlaps,
     coo_to_csr,
+    csr_slots,
     segment_to_segment,
 )
 
@@ -38,6 +39,7 @@ __all__ = [
     "box_overlaps",
     "clip_polygons",
     "coo_to_csr",
+    "csr_slots",
     "evaluate",
     "face_coupling",
     "facet_coefficients",

@@ -27,6 +27,7 @@ from dolfinx_contact_s2s.kernels.c_backend import (
     box_overlaps,
     clip_polygons,
     coo_to_csr,
+    csr_slots,
     segment_to_segment,
     triangulate_polygons,
 )
@@ -49,6 +50,7 @@ __all__ = [
     "box_overlaps",
     "clip_polygons",
     "coo_to_csr",
+    "csr_slots",
     "evaluate",
     "face_coupling",
     "facet_coefficients",

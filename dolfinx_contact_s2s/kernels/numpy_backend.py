@@ -35,6 +35,7 @@ __all__ = [
     "cell_normals",
     "clip_segments",
     "coo_to_csr",
+    "csr_slots",
     "evaluate",
     "facet_basis",
     "facet_coefficients",
@@ -463,3 +464,31 @@ def coo_to_csr(
     local_rows, indices = np.divmod(keys, max(width, 1))
     indptr = np.searchsorted(local_rows, np.arange(num_rows + 1)).astype(np.int64)
     return indptr, indices.astype(np.int64), data
+
+
+def csr_slots(
+    indptr: npt.NDArray[np.int64],
+    indices: npt.NDArray[np.int64],
+    rows: npt.NDArray[np.int64],
+    cols: npt.NDArray[np.int64],
+) -> npt.NDArray[np.int64]:
+    """Position in ``indices`` of each entry ``(rows[e], cols[e])`` of a CSR structure.
+
+    The structure's columns are sorted in each row (:func:`coo_to_csr`'s), so that the
+    values of entries at those indices are summed into it by
+    ``np.bincount(slots, values, indices.size)``.
+
+    Raises:
+        ValueError: If an entry is not in the structure.
+    """
+    rows = np.asarray(rows, dtype=np.int64)
+    cols = np.asarray(cols, dtype=np.int64)
+    if rows.size and (rows.min() < 0 or rows.max() >= indptr.size - 1):
+        raise ValueError("row index out of range")
+    width = int(max(indices.max(initial=-1), cols.max(initial=-1))) + 1
+    keys = np.repeat(np.arange(indptr.size - 1, dtype=np.int64), np.diff(indptr)) * width
+    keys += indices
+    slots = np.minimum(np.searchsorted(keys, rows * width + cols), max(keys.size - 1, 0))
+    if rows.size and not np.array_equal(keys[slots], rows * width + cols):
+        raise ValueError("an entry is not in the CSR structure")
+    return slots
