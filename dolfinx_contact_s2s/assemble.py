@@ -433,6 +433,8 @@ def _linearize(pair: ContactPair, blocks: list, G: PETSc.Vec) -> None:
     """
     comm = pair.contactor.comm
     surfaces = [pair.contactor] + [t for t in pair.targets if not t.rigid]
+    if all(s.placement is None for s in surfaces):
+        return  # set_displacement is collective: the same on every rank
     for V, B in blocks:
         placed = [s.placement for s in surfaces if s.V is V]
         some = any(p is not None for p in placed)

@@ -67,6 +67,7 @@ class FaceBasis:
             raise ValueError("faces with different numbers of dofs")
         self.coef = np.stack(coef)
         self.cols = np.stack(cols).astype(np.int64)
+        self.dofs: dict[int, tuple] = {}  # by _face_dofs
 
     def monomials(self, xi: npt.NDArray[np.floating]) -> npt.NDArray[np.floating]:
         r""":math:`\xi_1^i \xi_2^j` at points ``xi``, ``(n, (p + 1)^2)``."""
@@ -99,6 +100,7 @@ class EdgeBasis:
             raise ValueError("edges with different numbers of dofs")
         self.cols = np.stack(cols).astype(np.int64)
         self.table = np.ascontiguousarray(np.take_along_axis(table, self.cols[:, None], axis=2))
+        self.dofs: dict[int, tuple] = {}  # by _face_dofs
 
 
 def _basis(surface) -> FaceBasis | EdgeBasis:
@@ -115,14 +117,21 @@ def face_nodes(surface) -> npt.NDArray[np.int64]:
     return _basis(surface).cols
 
 
-def _face_dofs(surface, data, groups, basis, lf) -> npt.NDArray[np.int64]:
-    """The unrolled dofs of the functions ``basis.cols[lf]`` of each group's facet."""
-    bs = surface.V.dofmap.index_map_bs
-    unrolled = (basis.cols[:, :, None] * bs + np.arange(bs)).reshape(basis.cols.shape[0], -1)
-    # One flat take: twice as fast as indexing data.dofs by rows and columns.
-    flat = unrolled[lf]
-    flat += (np.asarray(groups, dtype=np.int64) * data.dofs.shape[1])[:, None]
-    return np.take(data.dofs.reshape(-1), flat)
+def _face_dofs(surface, data, groups, basis) -> npt.NDArray[np.int64]:
+    """The unrolled dofs of the functions ``basis.cols`` of each group's facet.
+
+    From the dofs of every facet of ``data``, kept for the last two ``data`` of the
+    surface (its own facets and those it is gathered as).
+    """
+    kept = basis.dofs.get(id(data))
+    if kept is None or kept[0] is not data:
+        bs = surface.V.dofmap.index_map_bs
+        unrolled = (basis.cols[:, :, None] * bs + np.arange(bs)).reshape(len(basis.cols), -1)
+        flat = unrolled[data.local_facet]
+        flat += (np.arange(len(data), dtype=np.int64) * data.dofs.shape[1])[:, None]
+        kept = (data, np.take(data.dofs.reshape(-1), flat))
+        basis.dofs = {k: v for k, v in list(basis.dofs.items())[-1:]} | {id(data): kept}
+    return kept[1][groups]
 
 
 def face_basis(surface, data, groups, nq, xi):
@@ -138,7 +147,7 @@ def face_basis(surface, data, groups, nq, xi):
         phi = surface.backend.facet_basis(basis.table, np.repeat(lf, nq), xi)
     else:
         phi = basis.values(np.repeat(lf, nq), xi)
-    return phi, _face_dofs(surface, data, groups, basis, lf)
+    return phi, _face_dofs(surface, data, groups, basis)
 
 
 def face_blocks(
@@ -179,11 +188,42 @@ def face_blocks(
             tangent=tangent,
         )
     dofs = [
-        _face_dofs(surface, data, rows[first], basis, lf[first])
-        for (surface, data, rows), basis, lf in zip(sides, bases, lfs, strict=True)
+        _face_dofs(surface, data, rows[first], basis)
+        for (surface, data, rows), basis in zip(sides, bases, strict=True)
     ]
     if first.size == 0:  # Explicit sizes: a rank may have no groups.
         nk = mu[0].shape[2]
         b_c, b_t = (np.zeros((0, nk, d.shape[1])) for d in dofs)
         gap = coverage = np.zeros((0, nk))
     return groups.rows[first], dofs[0], b_c, dofs[1], b_t, gap, coverage
+
+
+def edge_blocks(multiplier, contactor, C, target, T, groups, square, tangent=None) -> tuple:
+    r"""The local blocks of Eqs. (40)-(42) on edges, by the C kernels' ``edge_coupling``.
+
+    The fields of :class:`~dolfinx_contact_s2s.pair.CouplingBlocks` after the target,
+    as :func:`face_blocks`, with ``signed``; the groups' points and weights are those of
+    Eq. (40) without a ring weight (not in axisymmetry). ``square``: coverage of
+    :math:`\mu_k^2`.
+    """
+    mu = multiplier.edge_table[0]
+    if multiplier.dual:
+        mu = mu @ multiplier.dual_coefficients.T
+    bases = [_basis(contactor), _basis(target)]
+    b_c, b_t, gap, signed, coverage = contactor.backend.edge_coupling(
+        (C.coefficients, C.orientation),
+        T.coefficients,
+        (groups.contactor, groups.target),
+        groups.xi,
+        groups.weights,
+        ((mu, multiplier.flip), (bases[0].table, C.local_facet), (bases[1].table, T.local_facet)),
+        square,
+        tangent is not None,
+    )
+    dofs = [
+        _face_dofs(s, data, rows, b)
+        for s, data, rows, b in zip(
+            (contactor, target), (C, T), (groups.contactor, groups.target), bases, strict=True
+        )
+    ]
+    return groups.rows, dofs[0], b_c, dofs[1], b_t, gap, coverage, signed

@@ -46,7 +46,7 @@ from dolfinx_contact_s2s.axisymmetry import (
 )
 from dolfinx_contact_s2s.contact_rule import contact_rule
 from dolfinx_contact_s2s.discretizations import DISCRETIZATIONS, PointGroups
-from dolfinx_contact_s2s.face_basis import face_basis, face_blocks
+from dolfinx_contact_s2s.face_basis import edge_blocks, face_basis, face_blocks
 from dolfinx_contact_s2s.quadrature import RULES
 from dolfinx_contact_s2s.search import box_pairs, default_search_radius
 from dolfinx_contact_s2s.segmentation import Pieces, SubSegments, get_segmentation
@@ -394,6 +394,9 @@ class ContactPair:
         cs, C = self.contactor, self.contactor.data
         if self.multiplier.corners is not None and not self.axisymmetric:
             return CouplingBlocks(ts, *face_blocks(self.multiplier, cs, C, ts, T, g, tangent))
+        if hasattr(cs.backend, "edge_coupling") and not self.axisymmetric:
+            args = (self.multiplier, cs, C, ts, T, g, self.squared_coverage, tangent)
+            return CouplingBlocks(ts, *edge_blocks(*args))
         S, nq = g.weights.shape
         rows_c = np.repeat(g.contactor, nq)
         # One parameter per point on an edge, two reference coordinates on a face.

@@ -488,12 +488,13 @@ class ContactSurface:
 
         The boxes of curved facets are padded by a quarter of each facet's size, which
         covers the deviation of a quadratic facet from its sample points; those of
-        straight facets are exact. The boxes of gathered facets are cached (read-only).
+        straight facets are exact. The boxes of :attr:`data` and of the gathered facets
+        are cached (read-only).
         """
         gathered = None if self._gathered is None else self._gathered[1]
-        near = list(self._near[1].values())
+        near = [self.data, *self._near[1].values()]
         if data is gathered or any(data is n for n in near):
-            # The gathered facets change only with :attr:`data` (and the region of
+            # These facets change only with :attr:`data` (and the region of
             # :meth:`gather_near`): box them once.
             cache = self._gathered_boxes
             boxes = cache.get(id(data))
@@ -504,7 +505,7 @@ class ContactSurface:
                     self.backend.bounding_boxes(data.coefficients, samples, 0.25),
                 )
                 boxes[2].setflags(write=False)
-                # Only the current gathered and near facets are kept.
+                # Only the current facets, gathered and near facets are kept.
                 cache = {
                     k: v
                     for k, v in cache.items()

@@ -246,6 +246,46 @@ def test_backends_agree_on_random_meshes(degree, geometry_degree):
     assert checked == 35
 
 
+@pytest.mark.parametrize("degree", [1, 2])
+def test_fused_edge_kernel_with_dual_multipliers_and_tangents(degree):
+    """The C kernels' one-pass edge_coupling against the NumPy composition (1e-13).
+
+    The cases the random scenes above leave out: dual multipliers (their table combined
+    before the points) and friction's tangential coupling (T and no gap), with the
+    integrals of mu_k (``signed``) compared too.
+    """
+    comm = MPI.COMM_WORLD
+    rng = np.random.default_rng(77 + degree)
+    for case in range(6):
+        bodies = _bodies(comm, rng, 1)
+        spaces = [dolfinx.fem.functionspace(m, ("Lagrange", degree, (2,))) for m, _ in bodies]
+        lower, upper = (
+            contact_surface(V, tags, 1, backend="numpy")
+            for V, (_, tags) in zip(spaces, bodies, strict=True)
+        )
+        dual = case % 2 == 0
+        multiplier = ("Dual", degree) if dual else ("Lagrange", degree)
+        pair = contact_pair(upper, lower, multiplier=multiplier)
+        tangent = None if dual else (None, 1)
+        blocks = {}
+        for name in BACKENDS:
+            upper.backend = lower.backend = get_backend(name)
+            blocks[name] = pair.coupling_blocks(tangent)[0]
+        ref, c = blocks["numpy"], blocks["c"]
+        assert np.array_equal(ref.cols_contactor, c.cols_contactor)
+        assert np.array_equal(ref.cols_target, c.cols_target)
+        scale = max(np.max(np.abs(ref.values_contactor), initial=0.0), EPS)
+        error = max(
+            _max_error(c.values_contactor, ref.values_contactor, scale),
+            _max_error(c.values_target, ref.values_target, scale),
+            _max_error(c.gap, ref.gap, scale),
+            _max_error(c.coverage, ref.coverage, max(np.max(ref.coverage, initial=0.0), EPS)),
+            _max_error(c.signed, ref.signed, max(np.max(np.abs(ref.signed), initial=0.0), EPS)),
+        )
+        error = comm.allreduce(error, op=MPI.MAX)
+        assert error <= 1e-13, f"case {case}: relative difference {error:.2e}"
+
+
 @pytest.mark.parametrize("name", BACKENDS)
 def test_facet_basis_against_basix(name):
     """Monomial facet bases equal Basix tabulation at the mapped reference points."""

@@ -109,22 +109,23 @@ void s2s_evaluate(const double *c, int M, const int32_t *rows, const double *xi,
               ddx ? ddx + 2 * p : 0);
 }
 
+/* Values at s of the K functions of table t (M monomial coefficients each), Horner. */
+static void s2s_table_values(const double *t, int M, int K, double s, double *out)
+{
+  for (int k = 0; k < K; ++k)
+  {
+    double v = t[(M - 1) * K + k];
+    for (int m = M - 2; m >= 0; --m)
+      v = v * s + t[m * K + k];
+    out[k] = v;
+  }
+}
+
 void s2s_facet_basis(const double *table, int M, int K, const int32_t *local_facet,
                      const double *xi, int P, double *out)
 {
   for (int p = 0; p < P; ++p)
-  {
-    const double *t = table + (int64_t)local_facet[p] * M * K;
-    double *o = out + (int64_t)p * K;
-    double s = xi[p];
-    for (int k = 0; k < K; ++k)
-    {
-      double v = t[(M - 1) * K + k];
-      for (int m = M - 2; m >= 0; --m)
-        v = v * s + t[m * K + k];
-      o[k] = v;
-    }
-  }
+    s2s_table_values(table + (int64_t)local_facet[p] * M * K, M, K, xi[p], out + (int64_t)p * K);
 }
 
 void s2s_cell_normals(const double *tables, const double *coords, int P, int K,
@@ -212,36 +213,39 @@ void s2s_project(const double *c, int M, const int32_t *rows, const double *poin
     xi[p] = s2s_project_one(c + (int64_t)rows[p] * M * 2, M, points + 2 * p, iterations, tol);
 }
 
+/* Parameter where the line o + t d crosses facet cf: closed form if straight, else Newton
+ * from 1/2 relative to the facet's first point. */
+static double s2s_intersect_one(const double *cf, int M, const double *o, const double *d,
+                                int iterations, double tol)
+{
+  double q0 = -d[1], q1 = d[0];
+  if (s2s_straight(cf, M))
+  {
+    double t0 = M > 1 ? cf[2] : 0.0, t1 = M > 1 ? cf[3] : 0.0;
+    return -((cf[0] - o[0]) * q0 + (cf[1] - o[1]) * q1) / (t0 * q0 + t1 * q1);
+  }
+  double o0 = o[0] - cf[0], o1 = o[1] - cf[1];
+  double e = 0.5, x[2], dx[2], r[2];
+  for (int it = 0; it < iterations; ++it)
+  {
+    s2s_point(cf, M, e, x, dx, 0);
+    s2s_offset(cf, M, e, r);
+    double f = (r[0] - o0) * q0 + (r[1] - o1) * q1;
+    double df = dx[0] * q0 + dx[1] * q1;
+    double step = f / df;
+    e -= step;
+    if (fabs(step) <= tol * (1.0 + fabs(e)))
+      break;
+  }
+  return e;
+}
+
 void s2s_intersect(const double *c, int M, const int32_t *rows, const double *origins,
                    const double *directions, int P, int iterations, double tol, double *eta)
 {
   for (int p = 0; p < P; ++p)
-  {
-    const double *cf = c + (int64_t)rows[p] * M * 2;
-    const double *o = origins + 2 * p;
-    double q0 = -directions[2 * p + 1], q1 = directions[2 * p];
-    if (s2s_straight(cf, M))
-    {
-      double t0 = M > 1 ? cf[2] : 0.0, t1 = M > 1 ? cf[3] : 0.0;
-      eta[p] = -((cf[0] - o[0]) * q0 + (cf[1] - o[1]) * q1) / (t0 * q0 + t1 * q1);
-      continue;
-    }
-    /* Newton relative to the facet's first point cf[0]. */
-    double o0 = o[0] - cf[0], o1 = o[1] - cf[1];
-    double e = 0.5, x[2], dx[2], r[2];
-    for (int it = 0; it < iterations; ++it)
-    {
-      s2s_point(cf, M, e, x, dx, 0);
-      s2s_offset(cf, M, e, r);
-      double f = (r[0] - o0) * q0 + (r[1] - o1) * q1;
-      double df = dx[0] * q0 + dx[1] * q1;
-      double step = f / df;
-      e -= step;
-      if (fabs(step) <= tol * (1.0 + fabs(e)))
-        break;
-    }
-    eta[p] = e;
-  }
+    eta[p] = s2s_intersect_one(c + (int64_t)rows[p] * M * 2, M, origins + 2 * p,
+                               directions + 2 * p, iterations, tol);
 }
 
 void s2s_segment_to_segment(const double *mu, const double *phi_c, const double *phi_t,
@@ -278,6 +282,84 @@ void s2s_segment_to_segment(const double *mu, const double *phi_c, const double 
         for (int j = 0; j < nt; ++j)
           for (int d = 0; d < gdim; ++d)
             bt[(k * nt + j) * gdim + d] -= wm * pt[j] * n[d];
+      }
+    }
+  }
+}
+
+/* The local blocks of Eqs. (40)-(42) of S groups of Q points on edges, in one pass:
+ * what pair._integrate composes from outward_normals, intersect, evaluate, the bases and
+ * segment_to_segment, with the same operations. Group s pairs contactor facet gc[s] with
+ * target facet gt[s]; points and gaps are taken relative to the contactor facet's first
+ * point. The multiplier is mu_table (Mm coefficients of nk functions) at xi, or 1 - xi
+ * where flip[gc]; the displacement bases are the tables of each local facet (lf_c, lf_t),
+ * of the facet's own nc and nt functions. tangent: T = (N_1, -N_0) and no gap. Outputs:
+ * b_c (S, nk, nc * 2), b_t (S, nk, nt * 2), g, sig and cov (S, nk): sum w mu g,
+ * sum w mu, sum w mu^2 (mu if !square). */
+void s2s_edge_coupling(const double *cc, int Mc, const double *c_orientation, const double *tc,
+                       int Mt, const int32_t *gc, const int32_t *gt, int S, int Q,
+                       const double *xi, const double *weights, const double *mu_table, int Mm,
+                       int nk, const int8_t *flip, const double *c_table, int Mp, int nc,
+                       const int32_t *lf_c, const double *t_table, int Mq, int nt,
+                       const int32_t *lf_t, int tangent, int square, int iterations, double tol,
+                       double *b_c, double *b_t, double *g, double *sig, double *cov)
+{
+  double cl[2 * 8], tl[2 * 8], mu[16], pc[16], pt[16];
+  for (int s = 0; s < S; ++s)
+  {
+    const double *c = cc + (int64_t)gc[s] * Mc * 2, *t = tc + (int64_t)gt[s] * Mt * 2;
+    for (int i = 0; i < 2 * Mc; ++i)
+      cl[i] = i < 2 ? c[i] + -c[i] : c[i];
+    for (int i = 0; i < 2 * Mt; ++i)
+      tl[i] = i < 2 ? t[i] + -c[i] : t[i];
+    double *bc = b_c + (int64_t)s * nk * nc * 2, *bt = b_t + (int64_t)s * nk * nt * 2;
+    double *gs = g + (int64_t)s * nk, *ss = sig + (int64_t)s * nk, *vs = cov + (int64_t)s * nk;
+    for (int i = 0; i < nk * nc * 2; ++i)
+      bc[i] = 0.0;
+    for (int i = 0; i < nk * nt * 2; ++i)
+      bt[i] = 0.0;
+    for (int k = 0; k < nk; ++k)
+      gs[k] = ss[k] = vs[k] = 0.0;
+    /* A straight facet's normal is the same at every point (x' = c[1] to the bit). */
+    int straight = s2s_straight(c, Mc);
+    double n[2];
+    for (int q = 0; q < Q; ++q)
+    {
+      int64_t sq = (int64_t)s * Q + q;
+      double x = xi[sq], w = weights[sq], xc[2], xt[2];
+      if (q == 0 || !straight)
+      {
+        s2s_normal(c, Mc, c_orientation[gc[s]], x, n);
+        n[0] = -n[0];
+        n[1] = -n[1];
+      }
+      s2s_point(cl, Mc, x, xc, 0, 0);
+      double eta = s2s_intersect_one(tl, Mt, xc, n, iterations, tol);
+      eta = eta < 0.0 ? 0.0 : (eta > 1.0 ? 1.0 : eta);
+      s2s_point(tl, Mt, eta, xt, 0, 0);
+      double gap = (xc[0] - xt[0]) * n[0] + (xc[1] - xt[1]) * n[1];
+      double dir[2] = {n[0], n[1]};
+      if (tangent)
+      {
+        dir[0] = n[1];
+        dir[1] = -n[0];
+        gap = 0.0 * gap;
+      }
+      s2s_table_values(mu_table, Mm, nk, flip[gc[s]] ? 1.0 - x : x, mu);
+      s2s_table_values(c_table + (int64_t)lf_c[gc[s]] * Mp * nc, Mp, nc, x, pc);
+      s2s_table_values(t_table + (int64_t)lf_t[gt[s]] * Mq * nt, Mq, nt, eta, pt);
+      for (int k = 0; k < nk; ++k)
+      {
+        double wm = mu[k] * w;
+        gs[k] += wm * gap;
+        ss[k] += mu[k] * w;
+        vs[k] += (square ? mu[k] * mu[k] : mu[k]) * w;
+        for (int j = 0; j < nc; ++j)
+          for (int d = 0; d < 2; ++d)
+            bc[(k * nc + j) * 2 + d] += wm * pc[j] * dir[d];
+        for (int j = 0; j < nt; ++j)
+          for (int d = 0; d < 2; ++d)
+            bt[(k * nt + j) * 2 + d] -= wm * pt[j] * dir[d];
       }
     }
   }

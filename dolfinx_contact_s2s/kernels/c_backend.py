@@ -45,6 +45,7 @@ __all__ = [
     "compiled",
     "coo_to_csr",
     "csr_slots",
+    "edge_coupling",
     "evaluate",
     "facet_basis",
     "facet_coefficients",
@@ -59,73 +60,8 @@ __all__ = [
 
 _Array = npt.NDArray[np.float64]
 
-_CDEF = """
-void s2s_facet_coefficients(const double *basis, int M, int K, const int32_t *local_facet,
-                            int F, const double *coords, int gdim, double *out);
-void s2s_evaluate(const double *c, int M, const int32_t *rows, const double *xi, int P,
-                  double *x, double *dx, double *ddx);
-void s2s_facet_basis(const double *table, int M, int K, const int32_t *local_facet,
-                     const double *xi, int P, double *out);
-void s2s_cell_normals(const double *tables, const double *coords, int P, int K,
-                      const double *reference_normals, double *out);
-void s2s_outward_normals(const double *c, int M, const double *orientation,
-                         const int32_t *rows, const double *xi, int P, double *out);
-void s2s_project(const double *c, int M, const int32_t *rows, const double *points, int P,
-                 int iterations, double tol, double *xi);
-void s2s_intersect(const double *c, int M, const int32_t *rows, const double *origins,
-                   const double *directions, int P, int iterations, double tol, double *eta);
-void s2s_segment_to_segment(const double *mu, const double *phi_c, const double *phi_t,
-                            const double *normals, const double *weights, const double *gaps,
-                            int S, int Q, int nk, int nc, int nt, int gdim, double *b_c,
-                            double *b_t, double *g);
-void s2s_clip_segments(const double *cc, int Mc, const double *c_orientation,
-                       const double *tc, int Mt, const double *t_orientation,
-                       const int32_t *ic, const int32_t *it, int N, double radius,
-                       double min_length, double round_off, int iterations, double tol,
-                       double *lo, double *hi, int8_t *keep);
-void s2s_bounding_boxes(const double *c, int M, int F, int samples, double pad, double *out);
-int64_t s2s_box_overlaps(const double *a, int64_t na, const double *b, int gdim,
-                         const int64_t *order, const int64_t *start, const int64_t *stop,
-                         int32_t *ia, int32_t *ib);
-int64_t s2s_coo_to_csr(int64_t nrows, int64_t n, const int64_t *rows, const int64_t *cols,
-                       const double *values, int64_t *indptr, int64_t *indices, double *data);
-int64_t s2s_csr_slots(const int64_t *indptr, const int64_t *indices, int64_t n,
-                      const int64_t *rows, const int64_t *cols, int64_t *slots);
-int s2s_clip_polygons(const double *subject, int ms, const int32_t *subject_counts,
-                      const double *clip, int mc, const int32_t *clip_counts, int P,
-                      double round_off, int width, double *out, int32_t *counts);
-int64_t s2s_triangulate_polygons(const double *polygons, int m, const int32_t *counts, int P,
-                                 double round_off, double *triangles, int32_t *owner);
-void s2s_face_evaluate(const double *nodes, int K, const int32_t *rows, const double *xi, int P,
-                       double *x, double *dx);
-void s2s_face_intersect(const double *nodes, int K, const int32_t *rows, const double *origins,
-                        const double *directions, int P, int iterations, double tol,
-                        double round_off, double *xi, double *t, int8_t *ok);
-void s2s_face_coupling(const double *c_nodes, int Kc, const double *c_orientation,
-                       const double *t_nodes, int Kt, const int32_t *rows_c,
-                       const int32_t *rows_t, const double *xi, const double *weights, int S,
-                       int Q, const double *mu_coef, int Mm, int nk, const int32_t *mu_index,
-                       const double *c_coef, int Mc, int nc, const int32_t *c_index,
-                       const double *t_coef, int Mt, int nt, const int32_t *t_index,
-                       int square, int iterations, double tol, double round_off,
-                       double zero_below, const double *axis, int which, double *b_c,
-                       double *b_t, double *g, double *coverage, int8_t *ok);
-void s2s_face_piece_gaps(const double *c_nodes, int Kc, const double *c_orientation,
-                         const double *t_nodes, int Kt, const int32_t *rows_c,
-                         const int32_t *rows_t, const double *triangles, const double *origin,
-                         const double *frame, int S, int iterations, double tol,
-                         double round_off, double *gap, int8_t *ok_c, int8_t *ok_t);
-void s2s_face_piece_points(const double *nodes, int K, const int32_t *rows,
-                           const double *triangles, const double *origin, const double *frame,
-                           int S, const double *X, const double *W, int Q, int iterations,
-                           double tol, double round_off, double *xi, double *weights,
-                           int8_t *ok);
-void s2s_face_project(const double *c_nodes, int Kc, const double *c_orientation,
-                      const double *t_nodes, int Kt, const double *t_orientation,
-                      const int32_t *ic, const int32_t *it, int N, double round_off,
-                      double *origin, double *frame, double *c_poly, double *t_poly,
-                      int8_t *facing, int8_t *ok_c, int8_t *ok_t);
-"""
+#: The declarations CFFI binds (what Python may call).
+_CDEF = Path(__file__).with_name("_kernels.h").read_text()
 
 #: Vertices of the polygons of :func:`clip_polygons`, both together, at most (the C
 #: kernel's fixed working arrays: no allocation per pair).
@@ -426,6 +362,66 @@ def segment_to_segment(
         _ptr(ffi, b_c), _ptr(ffi, b_t), _ptr(ffi, g),
     )  # fmt: skip
     return b_c, b_t, g
+
+
+def edge_coupling(
+    contactor: tuple[_Array, _Array],
+    target: _Array,
+    groups: tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]],
+    xi: _Array,
+    weights: _Array,
+    tables: tuple,
+    square: bool,
+    tangent: bool,
+    iterations: int = 8,
+    tol: float = NEWTON_TOL,
+) -> tuple[_Array, ...]:
+    r"""The local blocks of Eqs. (40)-(42) on edges in one pass over the points (C only).
+
+    What ``pair._integrate`` composes from :func:`outward_normals`, :func:`intersect`,
+    :func:`evaluate`, :func:`facet_basis` and :func:`segment_to_segment`, the NumPy
+    reference, with the same operations (the dual multiplier's table combined first).
+
+    Args:
+        contactor: The contactor facets' coefficients ``(F, M, 2)`` and orientations.
+        target: The target facets' coefficients.
+        groups: Contactor and target facet of each group ``(S,)``.
+        xi: Contactor facet parameters ``(S, Q)``.
+        weights: The weights of Eq. (40) ``(S, Q)``.
+        tables: ``((mu_table, flip), (c_table, c_local_facet), (t_table, t_local_facet))``:
+            the multiplier's monomial table ``(M, nk)`` and the facets where it is read
+            at :math:`1 - \xi`; each basis' tables ``(L, M, n)`` of the facet's own
+            functions and the local facet of every facet.
+        square: Coverage of :math:`\mu_k^2` instead of :math:`\mu_k`.
+        tangent: :math:`T = (N_1, -N_0)` in place of :math:`N`, and no gap.
+        iterations: Newton steps of :func:`intersect` on curved facets, at most.
+        tol: Its relative stopping test.
+
+    Returns:
+        ``(b_c, b_t, gap, signed, coverage)``: ``(S, nk, 2 nc)``, ``(S, nk, 2 nt)`` and
+        ``(S, nk)`` each.
+    """
+    ffi, lib = _lib()
+    (cc, Mc), (tc, Mt) = _geometry(contactor[0]), _geometry(target)
+    (mu_table, flip), (c_table, lf_c), (t_table, lf_t) = tables
+    mu_table, c_table, t_table = _f64(mu_table), _f64(c_table), _f64(t_table)
+    gc, gt, xi, weights = _i32(groups[0]), _i32(groups[1]), _f64(xi), _f64(weights)
+    (S, Q), nk, nc, nt = xi.shape, mu_table.shape[1], c_table.shape[2], t_table.shape[2]
+    if max(Mc, Mt) > 8 or max(nk, nc, nt) > 16:
+        raise ValueError("edge_coupling takes facets of degree <= 7 and <= 16 functions")
+    out = [np.empty((S, nk, 2 * nc)), np.empty((S, nk, 2 * nt))]
+    out += [np.empty((S, nk)) for _ in range(3)]
+    p = [_ptr(ffi, a) for a in out]
+    lib.s2s_edge_coupling(
+        _ptr(ffi, cc), Mc, _ptr(ffi, _f64(contactor[1])), _ptr(ffi, tc), Mt,
+        _ptr(ffi, gc, "int32_t *"), _ptr(ffi, gt, "int32_t *"), S, Q, _ptr(ffi, xi),
+        _ptr(ffi, weights), _ptr(ffi, mu_table), mu_table.shape[0], nk,
+        _ptr(ffi, np.ascontiguousarray(flip, dtype=np.int8), "int8_t *"),
+        _ptr(ffi, c_table), c_table.shape[1], nc, _ptr(ffi, _i32(lf_c), "int32_t *"),
+        _ptr(ffi, t_table), t_table.shape[1], nt, _ptr(ffi, _i32(lf_t), "int32_t *"),
+        int(tangent), int(square), int(iterations), float(tol), *p,
+    )  # fmt: skip
+    return tuple(out)
 
 
 def clip_segments(

@@ -19,6 +19,7 @@ from petsc4py import PETSc
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.unilateral.complementarity import owned_indices
 from dolfinx_contact_s2s.unilateral.history import LoadStep
 from dolfinx_contact_s2s.unilateral.iteration import ContactIteration
 
@@ -144,6 +145,13 @@ class SnesVIStep:
         if comp.free_motions(released):
             self.floating = released  # reported after the solve, with the motions
             return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+        # PETSc's VI solver leaves the multipliers it holds at their bound out of its
+        # Newton system: if they leave a body free, the next step is singular (and its
+        # iterate arbitrary: it can show any active set).
+        held = self._held(x, work)
+        if comp.free_motions(held):
+            self.floating = held
+            return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
         # Equilibrium relative to the larger of the loads and the elastic forces K U.
         x.copy(self.xu)
         for is_ in self.lambda_sets:
@@ -163,6 +171,17 @@ class SnesVIStep:
         if it >= snes.getTolerances()[3]:
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         return PETSc.SNES.ConvergedReason.ITERATING
+
+    def _held(self, x: PETSc.Vec, f: PETSc.Vec) -> list[npt.NDArray[np.int64]]:
+        r"""Per pair, the global multipliers the next Newton system leaves out.
+
+        The rule of PETSc's ``SNESVIGetActiveSetIS`` at the lower bound 0:
+        :math:`\lambda_i \le 10^{-8}` and :math:`F_i \ge 0`.
+        """
+        return [
+            owned_indices(op.G, (_part(x, is_) <= 1e-8) & (_part(f, is_) >= 0.0))
+            for op, is_ in zip(self.comp.operators, self.lambda_sets, strict=True)
+        ]
 
     def solve(self) -> list[npt.NDArray[np.bool_]]:
         """Run the SNES; the converged active set, the solution scattered to the system.
@@ -199,10 +218,10 @@ class SnesVIStep:
                 # singular: say so rather than suggest more iterations. Seen by the
                 # complementarity test's set, or at the end by the multipliers PETSc's
                 # VI solver holds at their bound (they carry no force).
-                if self.floating is None:
+                if self.floating is None:  # global indices, as released(): a rank's own rows
                     self.floating = [
-                        np.flatnonzero(_part(self.x, is_) <= 0.0).astype(np.int64)
-                        for is_ in self.lambda_sets
+                        owned_indices(op.G, _part(self.x, is_) <= 0.0)
+                        for op, is_ in zip(self.comp.operators, self.lambda_sets, strict=True)
                     ]
                 run.check_active_support(step, self.floating)
                 run.fail(
