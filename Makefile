@@ -43,8 +43,8 @@ demo:
 	$(ENV_RUN) $(MPIRUN) python3 demos/demo_large_sliding.py
 
 ## bench: every performance figure of issues 11, 21 (3D: P9-P11) and 24 (P12, P13) as a ratio measured in one run
-## -> results/bench/*.json, plots and the performance section of results/report.md (about 10-20
-## minutes on 2 cores, and about 20 more for the 3D solves of 1 and 2 million unknowns)
+## -> results/bench/*.json, plots and the performance section of results/report.md (about 25
+## minutes on 2 cores, the 3D solves of 1 and 2 million unknowns and P1 at 1e6 facets included)
 BENCH_OUT := results/bench
 BENCH_REQUIRED := p1_coupling p2_share_blocks p2_share_hertz p3_saddle p4_infsup p6_scaling p7_ranks \
     p8_factorization p9_coupling_3d p10_share_3d p11_fieldsplit_3d p12_unilateral p13_dual

@@ -406,6 +406,9 @@ def edge_coupling(
     (mu_table, flip), (c_table, lf_c), (t_table, lf_t) = tables
     mu_table, c_table, t_table = _f64(mu_table), _f64(c_table), _f64(t_table)
     gc, gt, xi, weights = _i32(groups[0]), _i32(groups[1]), _f64(xi), _f64(weights)
+    # Named: a pointer does not keep a converted temporary alive.
+    orientation, flip = _f64(contactor[1]), np.ascontiguousarray(flip, dtype=np.int8)
+    lf_c, lf_t = _i32(lf_c), _i32(lf_t)
     (S, Q), nk, nc, nt = xi.shape, mu_table.shape[1], c_table.shape[2], t_table.shape[2]
     if max(Mc, Mt) > 8 or max(nk, nc, nt) > 16:
         raise ValueError("edge_coupling takes facets of degree <= 7 and <= 16 functions")
@@ -413,12 +416,12 @@ def edge_coupling(
     out += [np.empty((S, nk)) for _ in range(3)]
     p = [_ptr(ffi, a) for a in out]
     lib.s2s_edge_coupling(
-        _ptr(ffi, cc), Mc, _ptr(ffi, _f64(contactor[1])), _ptr(ffi, tc), Mt,
+        _ptr(ffi, cc), Mc, _ptr(ffi, orientation), _ptr(ffi, tc), Mt,
         _ptr(ffi, gc, "int32_t *"), _ptr(ffi, gt, "int32_t *"), S, Q, _ptr(ffi, xi),
         _ptr(ffi, weights), _ptr(ffi, mu_table), mu_table.shape[0], nk,
-        _ptr(ffi, np.ascontiguousarray(flip, dtype=np.int8), "int8_t *"),
-        _ptr(ffi, c_table), c_table.shape[1], nc, _ptr(ffi, _i32(lf_c), "int32_t *"),
-        _ptr(ffi, t_table), t_table.shape[1], nt, _ptr(ffi, _i32(lf_t), "int32_t *"),
+        _ptr(ffi, flip, "int8_t *"),
+        _ptr(ffi, c_table), c_table.shape[1], nc, _ptr(ffi, lf_c, "int32_t *"),
+        _ptr(ffi, t_table), t_table.shape[1], nt, _ptr(ffi, lf_t, "int32_t *"),
         int(tangent), int(square), int(iterations), float(tol), *p,
     )  # fmt: skip
     return tuple(out)
