@@ -84,7 +84,10 @@ class CooPattern:
     indices (which dofs meet on which piece) change only when its pieces do: a call
     whose index arrays equal the kept ones on every process only sends its values and
     sums them into the kept slots of the CSR structure. The recorded call's index arrays
-    are kept, not copied: they must not be modified.
+    are kept, not copied: they must not be modified. On several processes the pattern
+    also keeps a matrix of the structure (where petsc4py has PETSc's COO assembly), whose
+    duplicate takes the values: creating a distributed matrix from CSR arrays costs ten
+    times as much (its communication pattern is built again).
     """
 
     def __init__(self) -> None:
@@ -94,6 +97,24 @@ class CooPattern:
         self.plan: tuple | None = None
         self.slots = np.zeros(0, dtype=np.int64)
         self.csr: tuple[npt.NDArray, npt.NDArray] = (np.zeros(1, PETSc.IntType),) * 2
+        self.template: PETSc.Mat | None = None
+
+    def record(self, comm: MPI.Comm, sizes: list, start: int, csr: tuple) -> None:
+        """Keep the structure ``csr`` (local rows from global row ``start``; collective)."""
+        if self.template is not None:
+            self.template.destroy()
+            self.template = None
+        self.csr, self.sizes = csr, sizes
+        if comm.size > 1 and hasattr(PETSc.Mat, "setPreallocationCOO"):
+            indptr, indices = csr
+            rows = start + np.repeat(np.arange(indptr.size - 1), np.diff(indptr))
+            T = PETSc.Mat().create(comm=comm)
+            T.setSizes(sizes)
+            T.setType(PETSc.Mat.Type.AIJ)
+            T.setPreallocationCOO(rows.astype(PETSc.IntType), indices)
+            T.setValuesCOO(np.zeros(indices.size, dtype=PETSc.ScalarType))
+            T.assemble()
+            self.template = T
 
     def matches(self, comm: MPI.Comm, parts: Sequence[tuple], sizes: list) -> bool:
         """Whether every process's ``parts`` have the recorded index arrays (collective)."""
@@ -140,7 +161,7 @@ def coo_matrix(
     if pattern is not None and pattern.matches(comm, parts, sizes):
         (v,) = _send(comm, pattern.plan, [values])
         data = np.bincount(pattern.slots, weights=v, minlength=pattern.csr[1].size)
-        return _aij(comm, sizes, (*pattern.csr, data))
+        return _aij(comm, sizes, (*pattern.csr, data), pattern.template)
     flat_i, flat_j = [], []
     for rows, cols, _ in parts:
         nr, nc = rows.shape[1], cols.shape[1]
@@ -156,20 +177,33 @@ def coo_matrix(
     local_i = i - start if start else i
     indptr, indices, data = backend.coo_to_csr(n_rows, local_i, j, v)
     csr = (indptr.astype(PETSc.IntType), indices.astype(PETSc.IntType))
-    if pattern is not None:
-        pattern.keys = [(r, c) for r, c, _ in parts]
-        pattern.plan, pattern.csr, pattern.sizes = plan, csr, sizes
-        slots = backend.csr_slots(indptr, indices, local_i, j)
-        pattern.slots = slots.astype(np.int32) if indices.size < 2**31 else slots
-    return _aij(comm, sizes, (*csr, data))
+    if pattern is None:
+        return _aij(comm, sizes, (*csr, data))
+    pattern.keys = [(r, c) for r, c, _ in parts]
+    pattern.plan = plan
+    pattern.record(comm, sizes, start, csr)
+    slots = backend.csr_slots(indptr, indices, local_i, j)
+    pattern.slots = slots.astype(np.int32) if indices.size < 2**31 else slots
+    return _aij(comm, sizes, (*csr, data), pattern.template)
 
 
-def _aij(comm: MPI.Comm, sizes: list, csr: tuple) -> PETSc.Mat:
-    """The assembled AIJ matrix of local CSR arrays (copied by PETSc)."""
+def _aij(comm: MPI.Comm, sizes: list, csr: tuple, template: PETSc.Mat | None = None) -> PETSc.Mat:
+    """The assembled AIJ matrix of local CSR arrays with sorted columns.
+
+    On one process PETSc uses the arrays in place (the matrix keeps them alive; the
+    structure's arrays are shared with a pattern, which never modifies them); on several,
+    a duplicate of the pattern's ``template`` takes the values (COO in CSR order), else
+    PETSc copies the arrays into a new matrix.
+    """
     indptr, indices, data = csr
-    A = PETSc.Mat().createAIJ(
-        sizes, csr=(indptr, indices, data.astype(PETSc.ScalarType)), comm=comm
-    )
+    data = np.ascontiguousarray(data, dtype=PETSc.ScalarType)
+    if comm.size == 1:
+        A = PETSc.Mat().createAIJWithArrays(sizes, (indptr, indices, data), comm=comm)
+    elif template is not None:
+        A = template.duplicate(copy=False)
+        A.setValuesCOO(data)
+    else:
+        A = PETSc.Mat().createAIJ(sizes, csr=(indptr, indices, data), comm=comm)
     A.assemble()
     return A
 
