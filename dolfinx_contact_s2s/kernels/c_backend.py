@@ -104,7 +104,9 @@ def _module_name() -> str:
 
 
 def _source() -> str:
-    return "\n".join(path.read_text() for path in _SOURCES)
+    # The declarations first: a definition that drifts from what CFFI binds is then a
+    # compile error ("conflicting types"), not a call with the wrong arguments.
+    return "\n".join(["#include <stdint.h>", _CDEF, *(path.read_text() for path in _SOURCES)])
 
 
 def _library_path(name: str) -> Path:
