@@ -16,11 +16,22 @@ the faces that carry the crossings give the band where the front lies (their rad
 spread, and their nodes: where to refine,
 :func:`~dolfinx_contact_s2s.unilateral.refine_contact_zone`).
 
+Inside the bracket, the weighted gaps of the inactive nodes near the front place it
+(``gaps=``, the 3D form of the ``"gap"`` estimate of
+:func:`~dolfinx_contact_s2s.contact_zones`): beyond a smooth contact edge at radius
+:math:`e` the gap opens like :math:`C (r - e)_+^{3/2}` (the local law of an elastic
+contact edge between smooth bodies, not Hertz's whole profile); weighted by the
+multiplier's basis as in Eq. (17) it predicts every nodal weighted gap
+:math:`\tilde g_k = C \int \mu_k (r - e)_+^{3/2}`, and :math:`e` is the radius that fits
+the measured ones best (:math:`C` by least squares for each :math:`e`, the relative
+misfits of the nodes within three edges of the front).
+
 Collective; the same numbers on every process, whatever the partition.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import typing
 from dataclasses import dataclass, field
@@ -32,6 +43,9 @@ import numpy.typing as npt
 
 __all__ = ["ContactFront", "contact_front", "curvature_indicator"]
 
+#: The inactive nodes within this many edges of the front fit the gap estimate.
+GAP_RINGS = 3
+
 
 @dataclass(frozen=True)
 class ContactFront:
@@ -42,15 +56,20 @@ class ContactFront:
             multiplier face from an active to an inactive node (a crossing at a node
             shared by several such edges counted once).
         radii: Their distances from the axis ``(n,)``.
-        inside: Distance from the axis of each crossing's active node ``(n,)``.
+        inside: Distance from the axis of each crossing's active node ``(n,)`` (of a
+            crossing at an inactive node: the mean over its edges to active nodes).
         outside: Distance from the axis of each crossing's inactive node ``(n,)``.
-        edge_lengths: Length of each crossing's edge ``(n,)``.
+        edge_lengths: Length of each crossing's edge ``(n,)`` (the mean, likewise).
         face_radii: Smallest and largest distance from the axis of the nodes of the faces
             that carry the crossings (``nan`` without crossings).
         peak: The largest :math:`\lambda` of the multiplier's nodes (the peak pressure).
         peak_point: Where it is ``(3,)``.
         peak_length: The longest edge of the multiplier faces at that node (where to
             refine to measure the peak's discretization error).
+        gap_radius: The radius of the contact edge fitted to the weighted gaps of the
+            inactive nodes near the front (``gaps=``; ``nan`` without them, or with too
+            few such nodes), clipped to :attr:`bounds`.
+        gap_nodes: How many nodes that fit used.
     """
 
     points: npt.NDArray[np.floating]
@@ -62,6 +81,8 @@ class ContactFront:
     peak: float = math.nan
     peak_point: npt.NDArray[np.floating] = field(default_factory=lambda: np.full(3, np.nan))
     peak_length: float = math.nan
+    gap_radius: float = math.nan
+    gap_nodes: int = 0
 
     @property
     def radius(self) -> float:
@@ -91,6 +112,16 @@ class ContactFront:
         return 0.5 * (lo + hi)
 
     @property
+    def estimate(self) -> float:
+        """:attr:`gap_radius` where it was made, else :attr:`middle` (:attr:`method`)."""
+        return self.gap_radius if math.isfinite(self.gap_radius) else self.middle
+
+    @property
+    def method(self) -> str:
+        """How :attr:`estimate` was found: ``"gap"`` or ``"middle"``."""
+        return "gap" if math.isfinite(self.gap_radius) else "middle"
+
+    @property
     def bracket(self) -> float:
         """Width of :attr:`bounds` (the error bar of :attr:`radius`)."""
         lo, hi = self.bounds
@@ -103,9 +134,11 @@ class ContactFront:
 
 
 def _gather(
-    multiplier: dolfinx.fem.Function, active: dolfinx.fem.Function | None
-) -> tuple[npt.NDArray, npt.NDArray, npt.NDArray, npt.NDArray]:
-    """Coordinates, values, active flags (global dof order) and vertex dofs of every face."""
+    multiplier: dolfinx.fem.Function,
+    active: dolfinx.fem.Function | None,
+    gaps: dolfinx.fem.Function | None = None,
+) -> tuple[npt.NDArray, npt.NDArray, npt.NDArray, npt.NDArray, npt.NDArray]:
+    """Coordinates, values, active flags, gaps (global dof order), vertex dofs of every face."""
     Q = multiplier.function_space
     mesh = Q.mesh
     imap = Q.dofmap.index_map
@@ -113,19 +146,102 @@ def _gather(
     x = Q.tabulate_dof_coordinates()[:n]
     lam = multiplier.x.array[:n].real
     on = (lam > 0.0) if active is None else (active.x.array[:n].real > 0.5)
+    g = np.zeros(n) if gaps is None else gaps.x.array[:n].real
     num = mesh.topology.index_map(mesh.topology.dim).size_local
     cell = mesh.topology.cell_name()
     vertices = len(basix.topology(basix.CellType[cell])[0])
     local = Q.dofmap.list[:num, :vertices]
     cells = imap.local_to_global(local.reshape(-1)).reshape(-1, vertices)
-    parts = mesh.comm.allgather((imap.local_range[0], x, lam, on, cells))
+    parts = mesh.comm.allgather((imap.local_range[0], x, lam, on, g, cells))
     size = imap.size_global
-    X, L, A = np.zeros((size, 3)), np.zeros(size), np.zeros(size, dtype=bool)
-    for start, xx, ll, aa, _ in parts:
+    X, L, A, G = np.zeros((size, 3)), np.zeros(size), np.zeros(size, dtype=bool), np.zeros(size)
+    for start, xx, ll, aa, gg, _ in parts:
         X[start : start + ll.size], L[start : start + ll.size] = xx, ll
-        A[start : start + ll.size] = aa
-    faces = np.concatenate([p[4] for p in parts]).astype(np.int64)
-    return X, L, A, faces
+        A[start : start + ll.size], G[start : start + ll.size] = aa, gg
+    faces = np.concatenate([p[5] for p in parts]).astype(np.int64)
+    return X, L, A, G, faces
+
+
+def _face_rule(cell: str) -> tuple[npt.NDArray, npt.NDArray]:
+    """A Gauss rule of degree 8 on each of 16 pieces of the reference face.
+
+    The kink of :math:`(r - e)_+^{3/2}` inside a face then costs accuracy on one piece.
+    """
+    s, w = basix.make_quadrature(basix.CellType[cell], 8)
+    k = 4
+    if cell == "quadrilateral":
+        shifts = [((i, j), 1.0) for i in range(k) for j in range(k)]
+    else:
+        shifts = [((i, j), 1.0) for i in range(k) for j in range(k - i)]
+        shifts += [((i + 1, j + 1), -1.0) for i in range(k) for j in range(k - i - 1)]
+    points = np.concatenate([(np.array(c) + sign * s) / k for c, sign in shifts])
+    return points, np.tile(w / k**2, len(shifts))
+
+
+def _gap_radius(
+    X: npt.NDArray,
+    on: npt.NDArray,
+    g: npt.NDArray,
+    faces: npt.NDArray,
+    cell: str,
+    radius: typing.Callable[[npt.NDArray], npt.NDArray],
+    bounds: tuple[float, float],
+    dual: bool,
+) -> tuple[float, int]:
+    r"""The edge radius :math:`e` whose law :math:`C (r - e)_+^{3/2}` fits the weighted gaps.
+
+    The inactive nodes with a positive weighted gap within :data:`GAP_RINGS` edges of the
+    front; on each of their faces (on its chords: flat faces through the vertices) the
+    model :math:`\int \mu_k (r - e)_+^{3/2}` by :func:`_face_rule`; for each :math:`e`,
+    :math:`C` minimizes :math:`\sum_k (1 - C m_k(e) / 	ilde g_k)^2`; :math:`e` minimizes
+    the rest (a scan of the search interval, then golden sections).
+    """
+    ref = basix.topology(basix.CellType[cell])[1]
+    edges = np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
+    mixed = edges[on[edges[:, 0]] != on[edges[:, 1]]]
+    near = np.zeros(X.shape[0], dtype=bool)
+    near[mixed[~on[mixed]]] = True
+    for _ in range(GAP_RINGS - 1):
+        touched = near[edges[:, 0]] | near[edges[:, 1]]
+        near[edges[touched].reshape(-1)] = True
+        near &= ~on
+    nodes = np.flatnonzero(near & (g > 0.0))
+    if nodes.size < 2:
+        return math.nan, int(nodes.size)
+    index = np.full(X.shape[0], -1)
+    index[nodes] = np.arange(nodes.size)
+    around = faces[np.isin(faces, nodes).any(axis=1)]
+    local, corners = index[around], X[around]
+    points, weights = _face_rule(cell)
+    element = basix.create_element(basix.ElementFamily.P, basix.CellType[cell], 1)
+    phi = element.tabulate(1, points)[:, :, :, 0]
+    mu = phi[0]
+    if dual:
+        # psi = A mu, A = D M^-1 on the reference face (the dual basis on affine faces).
+        mass = mu.T @ (weights[:, None] * mu)
+        mu = mu @ np.linalg.solve(mass, np.diag(mass.sum(axis=1)))
+    x = np.einsum("qv,fvd->fqd", phi[0], corners)
+    tangents = [np.einsum("qv,fvd->fqd", phi[i], corners) for i in (1, 2)]
+    area = np.linalg.norm(np.cross(*tangents), axis=2) * weights
+    r = radius(x.reshape(-1, 3)).reshape(area.shape)
+    keep = local >= 0
+
+    def misfit(e: float) -> float:
+        moments = (np.maximum(r - e, 0.0) ** 1.5 * area) @ mu
+        m = np.zeros(nodes.size)
+        np.add.at(m, local[keep], moments[keep])
+        y = m / g[nodes]
+        return float(y.size - y.sum() ** 2 / (y @ y)) if y @ y > 0.0 else math.inf
+
+    lo, hi = float(radius(X[mixed[on[mixed]]]).min()), float(radius(X[nodes]).max())
+    grid = np.linspace(lo, hi, 101)
+    k = int(np.argmin([misfit(e) for e in grid]))
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    golden = 0.5 * (math.sqrt(5.0) - 1.0)
+    for _ in range(40):
+        c, d = b - golden * (b - a), a + golden * (b - a)
+        a, b = (a, d) if misfit(c) < misfit(d) else (c, b)
+    return float(np.clip(0.5 * (a + b), *bounds)), int(nodes.size)
 
 
 def contact_front(
@@ -134,6 +250,8 @@ def contact_front(
     *,
     centre: npt.ArrayLike,
     axis: npt.ArrayLike,
+    gaps: dolfinx.fem.Function | None = None,
+    dual: bool = False,
 ) -> ContactFront:
     r"""The zero level set of the multiplier on the contactor's faces (collective).
 
@@ -149,13 +267,19 @@ def contact_front(
         active: Its active set, ``problem.active[j]`` (``None``: :math:`\lambda > 0`).
         centre: A point of the axis (e.g. the first touching point).
         axis: Direction of the axis (e.g. the contact normal there); need not be unit.
+        gaps: The pair's weighted gaps, ``problem.gaps[j]``: with them the front also
+            has :attr:`ContactFront.gap_radius` (the module's gap estimate), for
+            multipliers of degree 1 (P1 triangles, Q1 quadrilaterals).
+        dual: Whether the pair's multipliers are dual (``multiplier=("Dual", 1)``): its
+            weighted gaps are integrals against the dual basis.
 
     Returns:
         The front; the same on every process.
 
     Raises:
         ValueError: On every process, for a multiplier not on faces in 3D, a non-finite
-            centre, or an axis of zero length.
+            centre, an axis of zero length, or gaps with a multiplier of higher degree
+            or on another space.
     """
     Q = multiplier.function_space
     mesh = Q.mesh
@@ -171,8 +295,17 @@ def contact_front(
     if not np.linalg.norm(n) > 0.0:
         raise ValueError("the axis has zero length")
     n = n / np.linalg.norm(n)
+    if gaps is not None:
+        degree = Q.ufl_element().basix_element.degree
+        if degree != 1 or gaps.function_space.dofmap.index_map.size_global != (
+            Q.dofmap.index_map.size_global
+        ):
+            raise ValueError(
+                f"the gap estimate reads the weighted gaps of a multiplier of degree 1 on "
+                f"the multiplier's own space (degree {degree} here)"
+            )
 
-    X, lam, on, faces = _gather(multiplier, active)
+    X, lam, on, g, faces = _gather(multiplier, active, gaps)
 
     def radius(p: npt.NDArray) -> npt.NDArray:
         d = p - c
@@ -191,9 +324,19 @@ def contact_front(
     i, o = edges[:, 0], edges[:, 1]
     li, lo = np.maximum(lam[i], 0.0), np.minimum(lam[o], 0.0)
     t = np.clip(np.where(li - lo > 0.0, li / np.maximum(li - lo, 1e-300), 0.5), 0.0, 1.0)
-    # A crossing at an inactive node (t = 1) is that node, whatever the edge: once.
+    # A crossing at an inactive node (t = 1) is that node, whatever the edge: once, with
+    # the mean radius and length of its edges (not one edge's: the choice would follow
+    # the dof numbering, which changes with the partition).
     key = np.where(t >= 1.0, o, X.shape[0] + np.arange(edges.shape[0]))
-    _, once = np.unique(key, return_index=True)
+    _, once, group = np.unique(key, return_index=True, return_inverse=True)
+    group = group.reshape(-1)
+    count = np.bincount(group)
+
+    def mean(values: npt.NDArray) -> npt.NDArray:
+        return np.bincount(group, weights=values) / count
+
+    inside = mean(radius(X[i]))
+    lengths_io = mean(np.linalg.norm(X[o] - X[i], axis=1))
     i, o, t = i[once], o[once], t[once]
     points = X[i] + t[:, None] * (X[o] - X[i])
     if carriers.size:
@@ -207,17 +350,22 @@ def contact_front(
     lengths = np.concatenate(
         [np.linalg.norm(X[around[:, e[0]]] - X[around[:, e[1]]], axis=1) for e in ref]
     )
-    return ContactFront(
+    front = ContactFront(
         points,
         radius(points),
-        radius(X[i]),
+        inside,
         radius(X[o]),
-        np.linalg.norm(X[o] - X[i], axis=1),
+        lengths_io,
         face_radii,
         float(lam[top]) if corners.size else math.nan,
         X[top].copy() if corners.size else np.full(3, np.nan),
         float(lengths.max()) if lengths.size else math.nan,
     )
+    if gaps is None or not i.size:
+        return front
+    cell = mesh.topology.cell_name()
+    fitted, used = _gap_radius(X, on, g, faces, cell, radius, front.bounds, dual)
+    return dataclasses.replace(front, gap_radius=fitted, gap_nodes=used)
 
 
 def curvature_indicator(
@@ -243,7 +391,7 @@ def curvature_indicator(
         The nodes ``(n, 3)``, their indicators ``(n,)`` and the longest edge at each
         ``(n,)``; the same on every process.
     """
-    X, first, on, faces = _gather(fields[0], active)
+    X, first, on, _, faces = _gather(fields[0], active)
     # The other components on the same space: their values only, in global dof order.
     owned = fields[0].function_space.dofmap.index_map.size_local
     comm = fields[0].function_space.mesh.comm

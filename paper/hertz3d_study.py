@@ -147,8 +147,9 @@ def read(
     r"""The measures of the module docstring against Hertz's ``a`` and ``p0`` (collective).
 
     Also the :func:`~dolfinx_contact_s2s.contact_front` of :math:`\lambda` around the
-    :math:`z`-axis: ``"a_front"`` the middle of its bracket, ``"front"`` the bracket,
-    ``"a_level"`` the mean radius of the zero crossings. ``force=False`` skips the
+    :math:`z`-axis: ``"a_gap"`` its gap estimate (the weighted gaps near the front),
+    ``"a_front"`` the middle of its bracket, ``"front"`` the bracket, ``"a_level"`` the
+    mean radius of the zero crossings. ``force=False`` skips the
     contact force (it integrates the coupling again).
     """
     data = nodes(problem)
@@ -157,9 +158,16 @@ def read(
     a_h, inside, outside = _radius(data)
     error2, norm2 = _l2(problem, a, p0)
     front = contact_front(
-        problem.multipliers[0], problem.active[0], centre=(0, 0, 0), axis=(0, 0, 1)
+        problem.multipliers[0],
+        problem.active[0],
+        centre=(0, 0, 0),
+        axis=(0, 0, 1),
+        gaps=problem.gaps[0],
     )
     out = {
+        "a_gap": front.gap_radius,
+        "a_gap_error": front.gap_radius / a - 1,
+        "gap_nodes": front.gap_nodes,
         "a_front": front.middle,
         "a_front_error": front.middle / a - 1,
         "front": front.bounds,

@@ -15,6 +15,15 @@ pair's multiplier lives on the contactor's faces):
   :math:`L^2 \max|f''|/8` with :math:`|f''| \le 2/a^2`, over the slope
   :math:`|\nabla f| \ge 1/a` near :math:`r = a`, for edges of length :math:`L`).
 
+The gap estimate (``gaps=``) from weighted gaps :math:`\int \mu_k g` assembled by DOLFINx
+(a rule of degree 12 on whole faces, an implementation of its own): for the power law
+:math:`g = (r - a)_+^{3/2}` that the estimate assumes, :math:`a` itself to a small
+fraction of an edge (the two rules' errors at the kink), with the Lagrange basis and with
+the dual basis of P1 triangles (:math:`\psi_k = 4 \mu_k - 1` on each face of node
+:math:`k`); for Hertz's own gap outside :math:`r = a` (a sphere of radius :math:`R` on a plane:
+:math:`\pi R g = (2a^2 - r^2) \arcsin(a/r) + a \sqrt{r^2 - a^2} - \pi a^2 + \pi r^2 / 2`),
+closer to :math:`a` than the bracket's middle.
+
 The curvature indicator on the same faces (edges of length :math:`h = 1/N` along
 :math:`x` and :math:`y`, one diagonal per square, so every interior ring is the six
 offsets :math:`\pm h(1, 0), \pm h(0, 1), \pm h(1, 1)` or :math:`\pm h(1, -1)`): on a
@@ -29,6 +38,7 @@ from mpi4py import MPI
 import dolfinx
 import numpy as np
 import pytest
+import ufl
 
 from dolfinx_contact_s2s import contact_front
 from dolfinx_contact_s2s.contact_front import curvature_indicator
@@ -108,6 +118,76 @@ def test_quadratic_field_crossings_near_the_circle():
     assert front.points.shape[0] >= 4 * int(2 * a * N)
 
 
+CENTRE, A = (0.5, 0.5), 0.3
+
+
+def _radius(x):
+    return ufl.sqrt((x[0] - CENTRE[0]) ** 2 + (x[1] - CENTRE[1]) ** 2)
+
+
+def _weighted_gaps(Q, gap, dual=False):
+    r"""DOLFINx's :math:`\int \mu_k g` (dual: :math:`4 \int \mu_k g - \int_{star(k)} g`)."""
+    dx = ufl.dx(domain=Q.mesh, metadata={"quadrature_degree": 12})
+    g = gap(ufl.SpatialCoordinate(Q.mesh))
+    out = dolfinx.fem.Function(Q)
+    dolfinx.fem.assemble_vector(out.x.array, dolfinx.fem.form(g * ufl.TestFunction(Q) * dx))
+    if dual:
+        W = dolfinx.fem.functionspace(Q.mesh, ("DG", 0))
+        per_cell = dolfinx.fem.assemble_vector(dolfinx.fem.form(g * ufl.TestFunction(W) * dx))
+        num = Q.mesh.topology.index_map(2).size_local
+        star = np.zeros_like(out.x.array)
+        np.add.at(star, Q.dofmap.list[:num].reshape(-1), np.repeat(per_cell.array[:num], 3))
+        out.x.array[:] = 4.0 * out.x.array - star
+    out.x.scatter_reverse(dolfinx.la.InsertMode.add)
+    out.x.scatter_forward()
+    return out
+
+
+def _hertz_front(gap, dual=False):
+    """The front of Hertz's pressure (radius A) with the weighted gaps of ``gap``."""
+    Q = _face_space()
+
+    def pressure(x):
+        return np.sqrt(
+            np.clip(1 - ((x[0] - CENTRE[0]) ** 2 + (x[1] - CENTRE[1]) ** 2) / A**2, 0, None)
+        )
+
+    gaps = _weighted_gaps(Q, gap, dual)
+    return contact_front(
+        _field(Q, pressure), centre=(*CENTRE, 1), axis=(0, 0, 1), gaps=gaps, dual=dual
+    )
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_gap_estimate_of_its_own_law(dual):
+    """g = (r - a)_+^{3/2}: the gap estimate finds a to 2% of an edge (the bracket: four)."""
+    front = _hertz_front(lambda x: ufl.max_value(_radius(x) - A, 0.0) ** 1.5, dual)
+    assert front.method == "gap" and front.estimate == front.gap_radius
+    # The inactive nodes of three rings around a circle of about 2 pi A N edges.
+    assert front.gap_nodes >= 3 * int(2 * np.pi * A * N)
+    assert abs(front.gap_radius - A) <= 0.02 / N, front.gap_radius - A
+
+
+def test_gap_estimate_of_hertz_gap():
+    """Hertz's gap outside r = a (a sphere of radius R on a plane): nearer a than the middle."""
+    R = 2.0
+
+    def gap(x):
+        r = ufl.max_value(_radius(x), A)
+        shape = (2 * A**2 - r**2) * ufl.asin(A / r) + A * ufl.sqrt(r**2 - A**2)
+        return shape / (np.pi * R) - A**2 / R + r**2 / (2 * R)
+
+    front = _hertz_front(gap)
+    lo, hi = front.bounds
+    assert lo < A < hi and lo <= front.gap_radius <= hi
+    assert abs(front.gap_radius - A) < abs(front.middle - A)
+    # Without the gaps: the middle.
+    without = contact_front(
+        _field(_face_space(), lambda x: A - x[0]), centre=(0, 0, 1), axis=(0, 0, 1)
+    )
+    assert without.method == "middle" and without.estimate == without.middle
+
+
 def test_bad_input():
     """A 2D multiplier, a zero axis, a bad centre: ValueError on every rank."""
     Q = _face_space()
@@ -120,6 +200,14 @@ def test_bad_input():
     flat = dolfinx.fem.Function(dolfinx.fem.functionspace(square, ("Lagrange", 1)))
     with pytest.raises(ValueError, match="faces of a 3D model"):
         contact_front(flat, centre=(0, 0, 0), axis=(0, 0, 1))
+    quadratic = dolfinx.fem.functionspace(Q.mesh, ("Lagrange", 2))
+    with pytest.raises(ValueError, match="degree 1"):
+        contact_front(
+            _field(quadratic, lambda x: 1 - x[0]),
+            centre=(0, 0, 0),
+            axis=(0, 0, 1),
+            gaps=dolfinx.fem.Function(quadratic),
+        )
 
 
 def test_curvature_indicator_closed_forms():
