@@ -32,10 +32,14 @@
 # alone would leave the pole on its R/40 faces, and its change over a step would not
 # measure the pole's error.
 #
-# Read from $\lambda$ (`paper/hertz3d_study.py`): $a$ the middle of the front's bracket
-# (an active-set $\lambda$ is zero at the inactive nodes, so its zero crossings are
-# those nodes, the bracket's top: the middle is off by at most half the bracket), $p_0$
-# at the pole node, the L2 error of $\lambda$ against Hertz over the multiplier's faces;
+# Read from $\lambda$ and the weighted gaps (`paper/hertz3d_study.py`): $a$ the front's
+# gap estimate (`contact_front(..., gaps=problem.gaps[0])`: the radius $e$ whose law
+# $C (r - e)_+^{3/2}$ of a smooth contact edge, weighted by the multiplier's hats as in
+# Eq. 17, fits the weighted gaps of the inactive nodes within three edges of the front;
+# it is not Hertz's profile), inside the front's bracket; also the bracket's middle (an
+# active-set $\lambda$ is zero at the inactive nodes, so its zero crossings are those
+# nodes, the bracket's top: the middle is off by at most half the bracket), $p_0$ at the
+# pole node, the L2 error of $\lambda$ against Hertz over the multiplier's faces;
 # also $a$ of the least-squares line of $\lambda^2$ against $r^2$ (it assumes Hertz's
 # profile). The contact force of the pair ($\mathbf B^T\Lambda$) balances the load to
 # round-off.
@@ -50,14 +54,16 @@
 #   $p_0 = 7.15$), P2 and P1; its model error from the axisymmetric model of the finite
 #   bodies and of a large block.
 #
-# The agreement with the axisymmetric model is judged against a bound stated before the
-# run, from the refinement itself: for $a$, half the last front bracket plus the
-# axisymmetric model's own distance to Hertz; for $p_0$, its change since the step
-# before the peak's last refinement plus that distance. Asserted for every P2 run:
-# equilibrium, $p_0$ within 2% and the L2 error within 5% of Hertz, the axisymmetric
-# model's $a$ inside the front's bracket; reported: $a$ (the middle) within 1% and the
-# agreement with the axisymmetric model within its bound. The sphere on the block is also
-# run from finer meshes of the user's (R/56, R/80).
+# The agreement with the axisymmetric model is judged on the same bodies and the same
+# discretization but the dimension: its multiplier of degree 1 as in 3D (the degree
+# alone moves the axisymmetric $p_0$ by about 0.1% at $h = R/500$; the P2 multiplier's
+# model is reported beside it), against a bound from the refinement itself: for $a$, half
+# the last front bracket (where the discrete front lies); for $p_0$, its change since the
+# step before the peak's last refinement; each plus the axisymmetric model's own distance
+# to Hertz. Asserted for every P2 run:
+# equilibrium, $a$ within 1%, $p_0$ within 2% and the L2 error within 5% of Hertz, the
+# axisymmetric model's $a$ inside the front's bracket, and the agreement within the bound.
+# The sphere on the block is also run from finer meshes of the user's (R/56, R/80).
 #
 # Outputs (in `--out`, default `results/`): `hertz_3d.json`, `hertz_3d.png` and the
 # section `hertz_3d` of `report.md`. Run it as `python3 demos/demo_hertz_3d.py` or with
@@ -79,7 +85,7 @@ out = output_folder(args.out, comm)
 log = rank0_print(comm)
 records = []
 #: The issue's tolerances (P2), from outside the code: a 1%, p0 2%, L2 5%.
-TOLERANCE = {"a_front_error": 0.01, "p0_error": 0.02, "L2_error": 0.05}
+TOLERANCE = {"a_gap_error": 0.01, "p0_error": 0.02, "L2_error": 0.05}
 #: The front's bracket, relative to its radius, at which the refinement stops: what three
 #: refinements of the R/40 mesh reach (each halves it, and multiplies the unknowns by
 #: about 2.4: 200,000 for the P2 sphere on the block, two minutes on this machine).
@@ -101,8 +107,9 @@ def show(recs, label):
         records.append(rec)
         lo, hi = rec["front"]
         log(
-            f"{rec['scene']:15s} {label:5s} step {rec['step']}: a {rec['a_front_error']:+.2%} "
-            f"in [{lo / rec['a_exact'] - 1:+.2%}, {hi / rec['a_exact'] - 1:+.2%}] (bracket "
+            f"{rec['scene']:15s} {label:5s} step {rec['step']}: a {rec['a_gap_error']:+.2%} "
+            f"(middle {rec['a_front_error']:+.2%}) in [{lo / rec['a_exact'] - 1:+.2%}, "
+            f"{hi / rec['a_exact'] - 1:+.2%}] (bracket "
             f"{rec['front_over_a']:.1%}), a(fit) {rec['a_error']:+.2%}, p0 "
             f"{rec['p0_error']:+.2%}, L2 {rec['L2_error']:.2%}; {rec['unknowns']} unknowns, "
             f"{rec['solves']} solves, {rec['seconds']:.1f} s"
@@ -149,6 +156,10 @@ for degree in (1,) if args.smoke else (2, 1):
     block[degree] = run("sphere-on-block", degree)
     show(block[degree], f"P{degree}")
 axi = show_axi(axisymmetric(comm, "sphere-on-block", h=1.0 / FINE), f"axisym., h = R/{FINE}")
+# The same bodies and discretization but the dimension: P1 multiplier as in 3D.
+axi_p1 = show_axi(
+    axisymmetric(comm, "sphere-on-block", h=1.0 / FINE, multiplier=1), f"axisym. P1 mult., R/{FINE}"
+)
 # -
 
 # ## The user's mesh finer: the sphere on the block from R/56 and R/80, P2
@@ -169,6 +180,8 @@ if not args.smoke:
     show(spheres, "P2")
     spheres_axi = axisymmetric(comm, "two-spheres", h=1.0 / FINE)
     show_axi(spheres_axi, f"axisym., h = R1/{FINE}")
+    spheres_axi_p1 = axisymmetric(comm, "two-spheres", h=1.0 / FINE, multiplier=1)
+    show_axi(spheres_axi_p1, f"axisym. P1 mult., R1/{FINE}")
 for degree in (1,) if args.smoke else (2, 1):
     ball[degree] = run("half-ball", degree, 0 if args.smoke else STEPS)
     show(ball[degree], f"P{degree}")
@@ -185,10 +198,13 @@ if not args.smoke:
 
 
 def agreement(recs, reference):
-    """3D (last step) against the axisymmetric model: (key, difference, bound) for a, p0."""
+    """3D (last step) against the axisymmetric model: (key, difference, bound).
+
+    The bound, as in the module's text: half the last front bracket for a, for p0 its
+    change since the step before the peak's last refinement; plus the axisymmetric
+    model's own distance to Hertz.
+    """
     last = recs[-1]
-    # p0: its change since the step before the peak's last refinement (the a posteriori
-    # estimate of the error after a refinement, for a rate of at least 1).
     refined = [k for k in range(1, len(recs)) if not recs[k - 1]["peak_change"] <= PEAK_TOLERANCE]
     since = recs[refined[-1] - 1] if refined else last
     out = []
@@ -196,20 +212,24 @@ def agreement(recs, reference):
         ("a", 0.5 * (last["front"][1] - last["front"][0])),
         ("p0", abs(last["p0"] - since["p0"])),
     ):
-        value = last["a_front"] if key == "a" else last["p0"]
-        change = own
+        value = last["a_gap"] if key == "a" else last["p0"]
         model = abs(reference[f"{key}_error"]) * reference[f"{key}_exact"]
-        out.append((key, abs(value - reference[key]), change + model))
+        out.append((key, abs(value - reference[key]), own + model))
     return out
 
 
-checks = []
+checks, p2_multiplier = [], []
 if not args.smoke:
-    checks.append(("sphere on block", agreement(block[2], axi)))
-    checks.append(("two spheres", agreement(spheres, spheres_axi)))
-# Asserted, for every P2 run: equilibrium (in show), p0 and L2 within the issue's
-# tolerances, the axisymmetric model's a inside the front's bracket. Reported: a (the
-# bracket's middle) within 1%, the axisymmetric model within the bound.
+    checks.append(("sphere on block", agreement(block[2], axi_p1)))
+    checks.append(("two spheres", agreement(spheres, spheres_axi_p1)))
+    # Reported: against the P2 multiplier's axisymmetric model (the degree differs too).
+    p2_multiplier = [
+        ("sphere on block", agreement(block[2], axi)),
+        ("two spheres", agreement(spheres, spheres_axi)),
+    ]
+# Asserted, for every P2 run: equilibrium (in show), a, p0 and L2 within the issue's
+# tolerances, the axisymmetric model's a inside the front's bracket, and the agreement
+# with it within the bound.
 p2 = []
 if not args.smoke:
     p2 = [
@@ -218,26 +238,28 @@ if not args.smoke:
         ("two spheres", spheres, spheres_axi),
         ("half-ball", ball[2], ball_axi),
     ]
-failed, missed = [], []
+failed = []
 for scene, recs, model in p2:
     last = recs[-1]
     failed += [
         f"{scene}: {key} {last[key]:+.2%} beyond {TOLERANCE[key]:.0%}"
-        for key in ("p0_error", "L2_error")
+        for key in TOLERANCE
         if not abs(last[key]) <= TOLERANCE[key]
     ]
     if not last["front"][0] <= model["a"] <= last["front"][1]:
         failed.append(f"{scene}: the axisymmetric a {model['a']:.5g} outside {last['front']}")
-    if not abs(last["a_front_error"]) <= TOLERANCE["a_front_error"]:
-        missed.append(f"{scene}: a {last['a_front_error']:+.2%}")
-missed += [
+failed += [
     f"{scene}: {key} differs by {d:.3g} > {bound:.3g}"
     for scene, rows in checks
     for key, d, bound in rows
     if not d <= bound
 ]
-for line in [f"{s}: {k} differs by {d:.3g} (bound {b:.3g})" for s, r in checks for k, d, b in r]:
-    log(line)
+for s, rows in checks:
+    for k, d, b in rows:
+        log(f"{s}: {k} differs by {d:.3g} (bound {b:.3g})")
+for s, rows in [] if args.smoke else p2_multiplier:
+    for k, d, b in rows:
+        log(f"{s}, the axisymmetric model's P2 multiplier: {k} differs by {d:.3g} ({b:.3g})")
 # -
 
 # ## Records, figure and report
@@ -256,7 +278,12 @@ if comm.rank == 0:
         (axes[1], ball[1], "half-ball, P1"),
     ):
         n = [r["unknowns"] for r in recs]
-        for key, label in (("a_front_error", "a"), ("p0_error", "p0"), ("L2_error", "L2")):
+        for key, label in (
+            ("a_gap_error", "a"),
+            ("a_front_error", "a (middle)"),
+            ("p0_error", "p0"),
+            ("L2_error", "L2"),
+        ):
             ax.loglog(n, [max(abs(r[key]), 1e-5) for r in recs], "o-", label=label)
         ax.loglog(n, [r["front_over_a"] for r in recs], "k--", label="front bracket / a")
         ax.set_xlabel("unknowns")
@@ -270,7 +297,8 @@ if comm.rank == 0:
     def row(r):
         lo, hi = r["front"]
         return (
-            f"| {r['scene']} | {r['label']} | {r['step']} | {r['a_front_error']:+.2%} | "
+            f"| {r['scene']} | {r['label']} | {r['step']} | {r['a_gap_error']:+.2%} | "
+            f"{r['a_front_error']:+.2%} | "
             f"[{lo / r['a_exact'] - 1:+.1%}, {hi / r['a_exact'] - 1:+.1%}] | "
             f"{r['a_error']:+.2%} | {r['p0_error']:+.2%} | {r['L2_error']:.2%} | "
             f"{r['unknowns']} | {r['solves']} | {r['seconds']:.1f} |"
@@ -278,7 +306,7 @@ if comm.rank == 0:
 
     def axi_row(r):
         return (
-            f"| {r['scene']} | {r['label']} | | | | {r['a_error']:+.2%} | {r['p0_error']:+.2%} "
+            f"| {r['scene']} | {r['label']} | | | | | {r['a_error']:+.2%} | {r['p0_error']:+.2%} "
             f"| {r['L2_error']:.2%} | {r['unknowns']} | {r['solves']} | {r['seconds']:.1f} |"
         )
 
@@ -289,23 +317,27 @@ if comm.rank == 0:
         "R/40 within R/10 of the touching point (no node at r = a), P1 multiplier, refined "
         "by the solution around the contact front until its bracket is below "
         f"{TOLERANCE_FRONT:.0%} of its radius, and around the peak of λ until it changes "
-        f"by at most {PEAK_TOLERANCE:.1%} over a step (at most {STEPS} steps). a: the middle "
-        "of the front's bracket (the zero crossings of λ are its top), a(fit): the λ²-r² line; "
+        f"by at most {PEAK_TOLERANCE:.1%} over a step (at most {STEPS} steps). a: the front's "
+        "gap estimate (the law (r - e)^{3/2} fitted to the weighted gaps near the front), "
+        "middle: the middle of the front's bracket (the zero crossings of λ are its top), "
+        "a(fit): the λ²-r² line; "
         "p0 at the pole; L2 over the contactor's faces; the seconds are cumulative. "
-        f"Tolerances (P2, last step): a {TOLERANCE['a_front_error']:.0%}, p0 "
+        f"Tolerances (P2, last step): a {TOLERANCE['a_gap_error']:.0%}, p0 "
         f"{TOLERANCE['p0_error']:.0%}, L2 {TOLERANCE['L2_error']:.0%}"
         + (" (smoke run: not checked)." if args.smoke else ": ")
-        + ("" if args.smoke else "p0 and L2 met; " if not failed else f"FAILED: {failed}; ")
-        + ("" if args.smoke else "missed: " + "; ".join(missed) if missed else "the rest met."),
+        + ("" if args.smoke else "all met." if not failed else f"FAILED: {failed}."),
         "",
-        "| scene | model | step | a | front | a(fit) | p0 | L2(p) | unknowns | solves | s |",
-        "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|",
+        "| scene | model | step | a | middle | front | a(fit) | p0 | L2(p) | unknowns | solves "
+        "| s |",
+        "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|",
         *[row(r) if "step" in r else axi_row(r) for r in records],
         "",
-        "Against the axisymmetric model of the same bodies (bound: half the last bracket for "
-        "a, p0's change since the step before the peak's last refinement, plus the "
-        "model's own distance to Hertz): "
+        "Against the axisymmetric model of the same bodies with the 3D models' P1 multiplier "
+        "(bound: half the last bracket for a, p0's change since the step before the peak's "
+        "last refinement, plus the model's own distance to Hertz): "
         + "; ".join(f"{s}: {k} {d:.3g} (bound {b:.3g})" for s, r in checks for k, d, b in r)
+        + ". With the axisymmetric model's P2 multiplier instead: "
+        + "; ".join(f"{s}: {k} {d:.3g} ({b:.3g})" for s, r in p2_multiplier for k, d, b in r)
         + ".",
         "",
         f"Model error of the finite bodies (axisymmetric, h = R/{FINE}): sphere on block "

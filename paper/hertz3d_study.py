@@ -371,7 +371,9 @@ def _axi_block(comm: MPI.Comm, W: float, D: float, h: float, reach: float, far: 
         return model_to_mesh(gmsh.model, comm, 0)
 
 
-def _axi_build(scene: hertz3d.Scene) -> typing.Callable[..., UnilateralContactProblem]:
+def _axi_build(
+    scene: hertz3d.Scene, multiplier: int | None = None
+) -> typing.Callable[..., UnilateralContactProblem]:
     """``build(meshes, cell_tags, facet_tags)``: the axisymmetric hemisphere on the block."""
     m_up, m_lo = (Material(m.E, m.nu, plane="axisymmetric") for m in scene.materials)
 
@@ -399,6 +401,7 @@ def _axi_build(scene: hertz3d.Scene) -> typing.Callable[..., UnilateralContactPr
             contact_surface(V_s, t_s, axi.CONTACT),
             contact_surface(V_b, t_b, axi.TARGET),
             axisymmetric=True,
+            multiplier=None if multiplier is None else ("Lagrange", multiplier),
         )
         return UnilateralContactProblem(forms, L, [pair], bcs, petsc_options_prefix="axi3d_")
 
@@ -406,7 +409,12 @@ def _axi_build(scene: hertz3d.Scene) -> typing.Callable[..., UnilateralContactPr
 
 
 def axisymmetric(
-    comm: MPI.Comm, name: str, *, h: float, size: tuple[float, float] | None = None
+    comm: MPI.Comm,
+    name: str,
+    *,
+    h: float,
+    size: tuple[float, float] | None = None,
+    multiplier: int | None = None,
 ) -> dict[str, typing.Any]:
     r"""The axisymmetric model of scene ``name`` (P2, triangles of size ``h`` near the contact).
 
@@ -414,13 +422,22 @@ def axisymmetric(
     width, or the block ``size = (W, D)``), read as in 3D: :math:`p_0` at the axis node,
     :math:`a` from the :math:`\lambda^2`-:math:`r^2` line through the active nodes, the
     L2 error over :math:`r \le 1.5 \max(a, a_h)` with the weight :math:`2\pi r`.
+    ``multiplier``: its degree (default 2, the displacement's; the 3D models' is 1).
     """
     scene = hertz3d.SCENES[name]
     a, p0 = hertz3d.exact(scene)
     comm.Barrier()
     begin = time.perf_counter()
     if name == "two-spheres":
-        rec = axi.run(comm, name, a_over_R1=a, h=h, estimate="pressure", keep_pressure=True)
+        rec = axi.run(
+            comm,
+            name,
+            a_over_R1=a,
+            h=h,
+            estimate="pressure",
+            keep_pressure=True,
+            multiplier=multiplier,
+        )
         r, p, unknowns, solves = rec["r"], rec["pressure"], rec["unknowns"], rec["solves"]
         inside, force = rec["bracket"][0], rec["force_over_F"] * scene.F
     else:
@@ -429,7 +446,7 @@ def axisymmetric(
         sphere = axi.hemisphere(comm, scene.R1, 0.0, True, h, 2, "triangle", reach)
         block = _axi_block(comm, W, D, h, reach, far)
         meshes = [sphere[0], block[0]], [sphere[1], block[1]], [sphere[2], block[2]]
-        with _axi_build(scene)(*meshes) as problem:
+        with _axi_build(scene, multiplier)(*meshes) as problem:
             problem.solve([1.0])
             r, p, force, edges = axi.read(problem)
             unknowns, solves = _unknowns(problem), problem.history.iterations
@@ -441,6 +458,7 @@ def axisymmetric(
         "study": "hertz-3d-axisymmetric",
         "scene": name,
         "size": size,
+        "multiplier": 2 if multiplier is None else multiplier,
         "h": h,
         "a_over_h": a / h,
         "a_exact": a,

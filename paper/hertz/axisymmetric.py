@@ -258,12 +258,14 @@ def build_two_spheres(
     ),
     start: str = "nearest",
     prefix: str = "axihertz_spheres_",
+    multiplier: int | None = None,
 ) -> typing.Callable[..., UnilateralContactProblem]:
     r"""``build(meshes, cell_tags, facet_tags)`` of sphere 2 pressed by :math:`F` on sphere 1.
 
     The meshes (lists of two) of :func:`hemisphere`: sphere 1 below (``down=False``, the
     contactor, its flat face held, :math:`u_z = 0`), sphere 2 above (``down=True``,
-    radius ``R2``, its flat face loaded), both poles at the origin.
+    radius ``R2``, its flat face loaded), both poles at the origin. ``multiplier``: its
+    degree (default: the displacement's).
     """
 
     def make(meshes, cell_tags, facet_tags) -> UnilateralContactProblem:
@@ -277,7 +279,10 @@ def build_two_spheres(
         q = dolfinx.fem.Constant(m2, -F / (math.pi * R2**2))
         L2 = q * v2[1] * materials[1].weight(m2) * ds2(LOADED)
         pair = contact_pair(
-            contact_surface(V1, t1, CONTACT), contact_surface(V2, t2, CONTACT), axisymmetric=True
+            contact_surface(V1, t1, CONTACT),
+            contact_surface(V2, t2, CONTACT),
+            axisymmetric=True,
+            multiplier=None if multiplier is None else ("Lagrange", multiplier),
         )
         return UnilateralContactProblem(
             [a1, a2], [L1, L2], [pair], bcs, petsc_options_prefix=prefix, start=start
@@ -400,6 +405,7 @@ def two_spheres(
     start: str = "nearest",
     hook: typing.Callable | None = None,
     reach: float = 0.25,
+    multiplier: int | None = None,
 ) -> AxiResult:
     r"""Sphere 2 pressed by :math:`F` onto sphere 1 (its flat face held, :math:`u_z = 0`).
 
@@ -408,7 +414,9 @@ def two_spheres(
     arguments as :func:`sphere_on_plane`; ``materials`` are sphere 1's and sphere 2's.
     """
     meshes, cts, fts = _sphere_meshes(comm, R1, R2, h, degree, cell, reach)
-    build = build_two_spheres(F=F, R2=R2, degree=degree, materials=materials, start=start)
+    build = build_two_spheres(
+        F=F, R2=R2, degree=degree, materials=materials, start=start, multiplier=multiplier
+    )
     return _solve(build, meshes, cts, fts, hook)
 
 
@@ -516,6 +524,7 @@ def run(
     reach: float = 0.1,
     max_steps: int = 8,
     keep_pressure: bool = False,
+    multiplier: int | None = None,
 ) -> dict[str, typing.Any]:
     r"""Solve a scene with the load that gives Hertz's :math:`a = ` ``a_over_R1`` :math:`R_1`.
 
@@ -528,8 +537,12 @@ def run(
     else one solve on a curved mesh (geometry of degree ``degree``).
     Returns a record for ``results/``: the exact and measured :math:`a`, :math:`p_0`, the
     errors of :func:`hertz_measures`, the unknowns, solves and seconds; with
-    ``keep_pressure``, also ``r`` and ``pressure`` (arrays, for plots).
+    ``keep_pressure``, also ``r`` and ``pressure`` (arrays, for plots). ``multiplier``:
+    the multiplier's degree of the two spheres' single solve (default: the
+    displacement's).
     """
+    if multiplier is not None and (refine or scene != "two-spheres"):
+        raise ValueError("multiplier= is for the single solve of the two spheres")
     R, E_star = SCENES[scene]["R"], SCENES[scene]["E_star"]
     a = a_over_R1 * 1.0
     h = a / ACROSS if h is None else h
@@ -553,7 +566,9 @@ def run(
             comm, F=F, h=h, degree=degree, cell=cell, target=target, reach=reach
         )
     else:
-        result = two_spheres(comm, F=F, h=h, degree=degree, cell=cell, reach=reach)
+        result = two_spheres(
+            comm, F=F, h=h, degree=degree, cell=cell, reach=reach, multiplier=multiplier
+        )
     a_exact, p0_exact = hertz_exact(F, R, E_star)
     arrays = {"r": result.r, "pressure": result.pressure} if keep_pressure else {}
     return arrays | {

@@ -24,12 +24,12 @@ from paper.hertz3d_study import adaptive, axisymmetric
 
 @pytest.fixture(scope="module")
 def steps():
-    """The R/40 solve and one refinement; the axisymmetric model at h = R/250."""
+    """The R/40 solve, one refinement; the axisymmetric model at R/250, P1 multiplier as in 3D."""
     comm = MPI.COMM_WORLD
     recs = adaptive(
         comm, "sphere-on-block", n=40, degree=2, tolerance=0.12, max_steps=1, peak_tolerance=0.005
     )
-    return recs, axisymmetric(comm, "sphere-on-block", h=1 / 250)
+    return recs, axisymmetric(comm, "sphere-on-block", h=1 / 250, multiplier=1)
 
 
 def test_equilibrium(steps):
@@ -52,12 +52,27 @@ def test_refinement_narrows_the_front(steps):
     for r in recs:
         assert r["front"][0] < r["a_exact"] < r["front"][1]
         assert r["front"][0] <= r["a_front"] <= r["front"][1]
+        assert r["front"][0] <= r["a_gap"] <= r["front"][1]
+
+
+def test_gap_estimate_within_one_percent(steps):
+    """After one refinement (a/h about 4 at the front) the gap estimate holds a to 1%.
+
+    The issue's tolerance for the contact radius; the bracket is still over 10% of a
+    wide there, and its middle further off. The gap estimate fits the weighted gaps of
+    the inactive nodes near the front (``contact_front(..., gaps=)``); the finite bodies
+    move Hertz's a by 0.06% (the axisymmetric model).
+    """
+    recs, _ = steps
+    last = recs[-1]
+    assert last["gap_nodes"] >= 10
+    assert abs(last["a_gap_error"]) <= 0.01
 
 
 def test_agrees_with_axisymmetric(steps):
     """3D and axisymmetric models of the same bodies agree within the 3D discretization error.
 
-    The bound: for a, half the front's bracket (the middle's largest error); for p0, its
+    The bound: for a, half the front's bracket (where the discrete front lies); for p0, its
     change over the refinement step (the a posteriori estimate of the error for a rate of
     at least 1); plus the axisymmetric model's own distance to Hertz (its discretization
     and the finite bodies).
@@ -65,7 +80,7 @@ def test_agrees_with_axisymmetric(steps):
     recs, axi = steps
     last, first = recs
     own = {"a": 0.5 * (last["front"][1] - last["front"][0]), "p0": abs(last["p0"] - first["p0"])}
-    value = {"a": last["a_front"], "p0": last["p0"]}
+    value = {"a": last["a_gap"], "p0": last["p0"]}
     for key in ("a", "p0"):
         bound = own[key] + abs(axi[f"{key}_error"]) * axi[f"{key}_exact"]
         assert abs(value[key] - axi[key]) <= bound, (key, value[key], axi[key], bound)
