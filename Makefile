@@ -7,7 +7,8 @@ PYTEST  := python3 -m pytest -q -p no:cacheprovider --durations=15
 TIMEOUT := timeout -k 30 1200
 SUITE   ?= trixie
 
-.PHONY: demo bench bench-smoke fuzz test check lint package test-serial test-mpi test-mpi3 smoke env clean
+.PHONY: demo bench bench-smoke fuzz test check lint package test-serial test-mpi test-mpi3 smoke \
+    smoke-serial smoke-mpi several-processes env clean
 
 ## demo: the patch-test, inf-sup, Hertz, Fig. 16, speed-accuracy, extremes, rigid-obstacle, adaptive-edge, axisymmetric Hertz, 3D, 3D Hertz, friction and large-sliding studies on 1 and 2 ranks -> results/
 demo:
@@ -106,18 +107,22 @@ fuzz:
 	    --cases $(FUZZ3D_CASES_MPI) --seed $(FUZZ_SEED) || status=1; \
 	exit $$status
 
-## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie then sid
+## test: lint, serial tests, tests on 2 ranks and the demos as a smoke run, for trixie and sid
+## (the one-process legs of both suites side by side on the two cores, then the 2- and
+## 3-rank legs one suite at a time: each fills both cores)
+SID_SKIPPED := "!!! WARNING: the Debian sid root (DOLFINx 0.11) could not be built: the sid leg of 'make test' is SKIPPED, only trixie was tested. !!!"
 test:
-	S2S_SUITE=trixie $(MAKE) --no-print-directory check SUITE=trixie
-	@if S2S_SUITE=sid S2S_ENV_BUILD_ONLY=1 $(ENV_RUN); then \
-	    S2S_SUITE=sid $(MAKE) --no-print-directory check SUITE=sid; \
-	else \
-	    echo; \
-	    echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
-	    echo "!!! WARNING: the Debian sid root (DOLFINx 0.11) could not be built.  !!!"; \
-	    echo "!!! The sid leg of 'make test' is SKIPPED; only trixie was tested.   !!!"; \
-	    echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
-	fi
+	S2S_SUITE=trixie S2S_ENV_BUILD_ONLY=1 $(ENV_RUN)
+	@if S2S_SUITE=sid S2S_ENV_BUILD_ONLY=1 $(ENV_RUN); then suites="trixie sid"; else \
+	    suites=trixie; echo; echo $(SID_SKIPPED); echo; fi; \
+	$(MAKE) --no-print-directory -j2 --output-sync=target $$(for s in $$suites; do printf 'one-process-%s ' $$s; done) \
+	&& for s in $$suites; do $(MAKE) --no-print-directory several-processes SUITE=$$s || exit 1; done \
+	&& if [ "$$suites" = trixie ]; then echo; echo $(SID_SKIPPED); fi
+
+one-process-%:
+	@$(MAKE) --no-print-directory lint package test-serial smoke-serial SUITE=$*
+
+several-processes: test-mpi test-mpi3 smoke-mpi
 
 check: lint package test-serial test-mpi test-mpi3 smoke
 
@@ -152,40 +157,27 @@ test-mpi3:
 	    tests/test_contact_3d.py::test_ranks_agree tests/test_contact_3d.py::test_same_coupling_on_any_number_of_ranks \
 	    tests/test_node_to_segment_3d.py::test_fails_on_non_matching_meshes
 
-smoke:
-	@echo "== [$(SUITE)] demos, smoke run"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_patch_test.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_infsup.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_hertz.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_fig16.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_fig16.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_tradeoff.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_tradeoff.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_extremes.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_extremes.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_rigid.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_rigid.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_adaptive_edge.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_adaptive_edge.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_axisymmetric.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_axisymmetric.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_hertz_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_hertz_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_3d.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_friction_penalty.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_large_sliding.py --smoke --out build/smoke-$(SUITE)
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_large_sliding.py --smoke --out build/smoke-$(SUITE)
+#: The demos of the smoke runs, in their order (demos/demo_<name>.py).
+SMOKE_DEMOS := patch_test infsup hertz fig16 tradeoff extremes rigid adaptive_edge axisymmetric \
+    3d hertz_3d friction friction_3d friction_penalty large_sliding
 
-## env: build the FEniCSx environment only
+smoke: smoke-serial smoke-mpi
+
+smoke-serial:
+	@echo "== [$(SUITE)] demos, smoke run, 1 rank"
+	@set -e; for d in $(SMOKE_DEMOS); do \
+	    echo "demos/demo_$$d.py --smoke"; \
+	    S2S_SUITE=$(SUITE) $(ENV_RUN) python3 demos/demo_$$d.py --smoke --out build/smoke-$(SUITE); \
+	done
+
+smoke-mpi:
+	@echo "== [$(SUITE)] demos, smoke run, 2 ranks"
+	@set -e; for d in $(SMOKE_DEMOS); do \
+	    echo "$(MPIRUN) demos/demo_$$d.py --smoke"; \
+	    S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) $(MPIRUN) python3 demos/demo_$$d.py --smoke \
+	        --out build/smoke-$(SUITE); \
+	done
+
 env:
 	S2S_SUITE=$(SUITE) S2S_ENV_BUILD_ONLY=1 $(ENV_RUN)
 
