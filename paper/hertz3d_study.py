@@ -332,6 +332,7 @@ def adaptive(
         problem, resolved, history = error.problem, False, error.history
     for rec, step in zip(records, history, strict=True):
         rec["peak_change"] = step.peak_change
+        rec["step_estimate"] = step.fronts[0].estimate if step.fronts else math.nan
     with problem:
         f = contact_force(problem.pairs[0], problem.multipliers[0])
         applied = _applied(scene, *latest[0])

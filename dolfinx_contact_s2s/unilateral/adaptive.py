@@ -88,7 +88,8 @@ class AdaptiveStep:
         solves: Linear solves of the active-set iteration of the step (of the last
             ``problem.solve`` call of a load path given as ``solve``).
         restarted: Whether the step started from the previous step's contact zones.
-        fronts: The contact front of every pair (3D models; empty in 2D).
+        fronts: The contact front of every pair (3D models; empty in 2D), with its gap
+            estimate where the multiplier is of degree 1 (:attr:`ContactFront.estimate`).
         peak_change: Largest relative change of a pair's peak :math:`\lambda` since
             the previous step (``nan`` at the first step or without ``peak_tolerance``).
         stick_zones: With friction, the stick zones of every pair (2D): the runs of
@@ -220,10 +221,26 @@ def _fronts(
 ) -> list[ContactFront]:
     sets = problem.stick if stick else problem.active  # type: ignore[attr-defined]
     fields = sets if stick else problem.multipliers
-    return [
-        contact_front(lam, act, centre=axis[0], axis=axis[1])
-        for lam, act in zip(fields, sets, strict=True)
-    ]
+    gaps = getattr(problem, "gaps", None)
+    fronts = []
+    for j, (lam, act) in enumerate(zip(fields, sets, strict=True)):
+        # The contact front's gap estimate where its weighted gaps are those of hats.
+        fit = not stick and gaps is not None and _degree(lam) == 1
+        fronts.append(
+            contact_front(
+                lam,
+                act,
+                centre=axis[0],
+                axis=axis[1],
+                gaps=gaps[j] if fit else None,
+                dual=fit and problem.pairs[j].dual,
+            )
+        )
+    return fronts
+
+
+def _degree(f: dolfinx.fem.Function) -> int:
+    return f.function_space.ufl_element().basix_element.degree
 
 
 def _inside_front(

@@ -53,6 +53,8 @@ def test_refinement_narrows_the_front(steps):
         assert r["front"][0] < r["a_exact"] < r["front"][1]
         assert r["front"][0] <= r["a_front"] <= r["front"][1]
         assert r["front"][0] <= r["a_gap"] <= r["front"][1]
+        # The refinement's own front (its history) carries the same gap estimate.
+        assert r["step_estimate"] == pytest.approx(r["a_gap"], rel=1e-12)
 
 
 def test_gap_estimate_within_one_percent(steps):
