@@ -193,7 +193,7 @@ def _gap_radius(
     The inactive nodes with a positive weighted gap within :data:`GAP_RINGS` edges of the
     front; on each of their faces (on its chords: flat faces through the vertices) the
     model :math:`\int \mu_k (r - e)_+^{3/2}` by :func:`_face_rule`; for each :math:`e`,
-    :math:`C` minimizes :math:`\sum_k (1 - C m_k(e) / 	ilde g_k)^2`; :math:`e` minimizes
+    :math:`C` minimizes :math:`\sum_k (1 - C m_k(e) / \tilde g_k)^2`; :math:`e` minimizes
     the rest (a scan of the search interval, then golden sections).
     """
     ref = basix.topology(basix.CellType[cell])[1]

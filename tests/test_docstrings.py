@@ -61,3 +61,23 @@ def test_search_radius_and_defaults_explained():
     backend = "\n".join(sections(inspect.getdoc(contact_surface))["Args"])
     for name in ('"auto"', '"c"', '"numpy"'):
         assert name in backend
+
+
+def test_no_control_characters_in_the_sources():
+    r"""No tab or other control character in the package's sources.
+
+    A ``"\tau"`` written into a non-raw string (or a tab pasted into a raw one) renders as
+    a tab followed by ``au``: the maths of the docstring is silently lost.
+    """
+    import pathlib
+
+    import dolfinx_contact_s2s
+
+    root = pathlib.Path(dolfinx_contact_s2s.__file__).parent
+    bad = [
+        f"{path.relative_to(root)}:{number}"
+        for path in sorted(root.rglob("*.py"))
+        for number, line in enumerate(path.read_text().splitlines(), 1)
+        if any(ord(c) < 32 for c in line)
+    ]
+    assert not bad, bad

@@ -243,15 +243,15 @@ def joint_redundant_constraints(
 
     Each pair may have full row rank while the stacked :math:`[\mathbf B_1; \mathbf B_2]`
     has not: the two passes of a two-pass method both constrain the same motion. The
-    Gram matrix of the stacked unit rows has the blocks :math:`\sum_s 	ilde{\mathbf
-    B}_{is}	ilde{\mathbf B}_{js}^T` over the spaces :math:`s` both pairs constrain;
+    Gram matrix of the stacked unit rows has the blocks :math:`\sum_s \tilde{\mathbf
+    B}_{is}\tilde{\mathbf B}_{js}^T` over the spaces :math:`s` both pairs constrain;
     its inertia is counted as in :func:`redundant_constraints`.
 
     Args:
         constraints: Per pair, ``(space index, block)`` of each space it constrains.
         dirichlet_masks: Per space, 1 at free and 0 at Dirichlet dofs (or ``None``).
         inactive: Per pair, global indices of the rows to ignore (or ``None``).
-        tol: :math:`	au`, see :data:`REDUNDANT_TOL`.
+        tol: :math:`\tau`, see :data:`REDUNDANT_TOL`.
 
     Returns:
         The counts over all pairs, the same on every process.
