@@ -85,6 +85,7 @@ import numpy as np
 from paper.friction import (
     CM_MU,
     HD_MU,
+    HD_OTHER_PACKAGE,
     cattaneo_mindlin,
     cattaneo_mindlin_shear,
     half_disks,
@@ -306,6 +307,31 @@ if comm.rank == 0:
         )
 
     mine = [r for r in merged if r["ranks"] == comm.size]
+
+    def other_package_rows():
+        other = HD_OTHER_PACKAGE
+        here = min(
+            (r for r in mine if r["scene"] == "half-disks" and r["degree"] == 2),
+            key=lambda r: r["h"],
+        )
+        c, a, p0 = here["c_exact"], here["a"], here["p0"]
+        return [
+            f"| unknowns | {other['unknowns']:,} | {here['unknowns']:,} |",
+            f"| iterations | {other['newton']} Newton, {other['linear']} Krylov | "
+            f"{sum(here['solves_per_step'])} LU solves (active, stick and slip sets) |",
+            f"| time | {other['seconds']:.0f} s ({other['cpu_seconds']:.0f} s CPU, shared "
+            f"cores) | {here['seconds']:.1f} s |",
+            f"| c (exact {c:.4f}) | {other['c']:.3f} ({other['c'] / c - 1:+.1%}) | "
+            f"{here['c']:.4f} ({here['c'] / c - 1:+.1%}) |",
+            f"| L2(q), L2(p) | {other['q_L2_error']:.1%}, {other['p_L2_error']:.1%} | "
+            f"{here['q_L2_error']:.2%}, {here['p_L2_error']:.2%} |",
+            f"| a, p0 (Hertz {a:.4f}, {p0:.3f}) | fitted {other['a']:.3f} "
+            f"({other['a'] / a - 1:+.1%}), {other['p0']:.3f} ({other['p0'] / p0 - 1:+.1%}) | "
+            f"outermost active node {here['a_measured']:.4f} "
+            f"({here['a_measured'] / a - 1:+.1%}), largest λn "
+            f"{here['p0_measured']:.3f} ({here['p0_measured'] / p0 - 1:+.1%}) |",
+        ]
+
     lines = [
         "## Coulomb friction in 2D",
         "",
@@ -374,10 +400,14 @@ if comm.rank == 0:
         "",
         "![half disks](friction_half_disks.png)",
         "",
-        "Side by side with the other package's own demo (its source, read, not run here):",
+        "Side by side with the other package's own demo, both run on this machine (its "
+        "numbers from `paper.friction.HD_OTHER_PACKAGE`: v0.9.0 on DOLFINx 0.9, one rank, "
+        "read from its raw stresses at the contact quadrature points; here the finest P2 "
+        "row above):",
         "",
         "| | the other package's demo | here |",
         "|---|---|---|",
+        *other_package_rows(),
         "| contact | Nitsche, penalty 100 E (frictionless), 10 E (Coulomb), P1 | "
         "mortar multipliers (λn, λt), semismooth Newton on the active, stick and slip "
         "sets; P1 and P2 |",

@@ -47,6 +47,7 @@ __all__ = [
     "CM_DELTA",
     "CM_MU",
     "CM_SHIFT",
+    "HD_OTHER_PACKAGE",
     "MATERIAL",
     "NU",
     "E",
@@ -293,6 +294,27 @@ def cattaneo_mindlin_measure(
 #: The other package's half disks: radius, material, normal and tangential tractions on
 #: the upper flat face (F = 10 and Q = 0.936 per unit thickness over its width 2R), mu.
 HD_R, HD_E, HD_NU, HD_P, HD_Q, HD_MU = 8.0, 200.0, 0.3, 0.625, 0.05851, 0.2
+#: The other package's own run of its half disks (its ``demo_friction_cylinders_force_driven.py``,
+#: Wells-Group/asimov-contact v0.9.0, commit db958afe, built against DOLFINx 0.9 and run on
+#: this machine on 28 November 2026, one rank, two cores shared with other work): Nitsche
+#: with P1 quadrilaterals, Newton with GAMG-preconditioned CG and GMRES. Read from its raw
+#: stresses at the contact quadrature points (those its writer outputs), upper disk:
+#: ``c`` the half-width of the central interval with ``|q| < 0.95 mu P`` (0.57-0.59 at
+#: 0.99: the stress noise moves one end), ``a`` and ``p0`` a weighted fit of Hertz's
+#: profile, the L2 errors relative, as :func:`half_disks` defines them. A measurement, not
+#: an input: the report prints it beside this package's numbers.
+HD_OTHER_PACKAGE = {
+    "unknowns": 816_932,
+    "newton": 106,
+    "linear": 3406,
+    "seconds": 1868.0,
+    "cpu_seconds": 912.0,
+    "c": 0.512,
+    "q_L2_error": 0.2425,
+    "p_L2_error": 0.0445,
+    "a": 0.670,
+    "p0": 9.450,
+}
 #: Facet tags of :func:`half_disks_mesh` (the axes x = 0 are interior lines).
 HD_TAGS = {"contactor": 10, "upper_top": 11, "upper_rest": 12, "target": 20, "lower_bottom": 21}
 
