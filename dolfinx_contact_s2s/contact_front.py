@@ -162,6 +162,12 @@ def _gather(
     return X, L, A, G, faces
 
 
+def _unique_edges(faces: npt.NDArray, cell: str) -> npt.NDArray:
+    """The edges of the faces, each once, as sorted pairs of node indices."""
+    ref = basix.topology(basix.CellType[cell])[1]
+    return np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
+
+
 def _face_rule(cell: str) -> tuple[npt.NDArray, npt.NDArray]:
     """A Gauss rule of degree 8 on each of 16 pieces of the reference face.
 
@@ -196,8 +202,7 @@ def _gap_radius(
     :math:`C` minimizes :math:`\sum_k (1 - C m_k(e) / \tilde g_k)^2`; :math:`e` minimizes
     the rest (a scan of the search interval, then golden sections).
     """
-    ref = basix.topology(basix.CellType[cell])[1]
-    edges = np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
+    edges = _unique_edges(faces, cell)
     mixed = edges[on[edges[:, 0]] != on[edges[:, 1]]]
     near = np.zeros(X.shape[0], dtype=bool)
     near[mixed[~on[mixed]]] = True
@@ -228,8 +233,7 @@ def _gap_radius(
 
     def misfit(e: float) -> float:
         moments = (np.maximum(r - e, 0.0) ** 1.5 * area) @ mu
-        m = np.zeros(nodes.size)
-        np.add.at(m, local[keep], moments[keep])
+        m = np.bincount(local[keep], weights=moments[keep], minlength=nodes.size)
         y = m / g[nodes]
         return float(y.size - y.sum() ** 2 / (y @ y)) if y @ y > 0.0 else math.inf
 
@@ -397,8 +401,7 @@ def curvature_indicator(
     comm = fields[0].function_space.mesh.comm
     rest = [np.concatenate(comm.allgather(f.x.array[:owned].real)) for f in fields[1:]]
     values = np.stack([first, *rest], axis=1)
-    ref = basix.topology(basix.CellType[fields[0].function_space.mesh.topology.cell_name()])[1]
-    edges = np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
+    edges = _unique_edges(faces, fields[0].function_space.mesh.topology.cell_name())
     edges = np.concatenate([edges, edges[:, ::-1]])  # directed: from node k to neighbour j
     k, j = edges[:, 0], edges[:, 1]
     size = X.shape[0]
