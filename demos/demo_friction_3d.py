@@ -38,7 +38,12 @@
 # kernel is isotropic ($\nu = 0$); the tangential motion in one step (monotonic: the
 # same end as four steps, to 1e-4 of the peak shear).
 # Checked: $c$ within one element with P2; the L2 errors of $q$ and $p$ and the 2% for
-# $c$ are reported. It writes `results/friction3d.json`, `results/friction3d.png`
+# $c$ are reported. `--fine` refines four times instead, to brackets of 1% and
+# `pressure_tolerance` 1%, and checks the issue's bounds: $c$ within 2% and one element,
+# $q$ within 5% (L2). Its last mesh has about a million unknowns, whose MUMPS factors
+# (about 35 GB) do not fit in this machine's 24 GB: they go out of core (ICNTL(22) = 1,
+# in `$MUMPS_OOC_TMPDIR`, by default `/tmp`; about 10 GB of memory and 40 GB of disk,
+# an hour and a half on one rank). It writes `results/friction3d.json`, `results/friction3d.png`
 # and the section "friction-3d" of `results/report.md`. Run it as
 # `python3 demos/demo_friction_3d.py` or `mpirun -n 2 python3 demos/demo_friction_3d.py`;
 # `--smoke` runs the patch tests, the coarsest P1 Cattaneo-Mindlin mesh and the refined
@@ -59,14 +64,22 @@ from paper.friction3d import (
 from paper.records import merge_rank_records
 from paper.report import demo_parser, output_folder, rank0_print, verdict, write_section
 
-args = demo_parser(
+parser = demo_parser(
     "Coulomb friction in 3D: patch tests, Cattaneo-Mindlin between spheres",
     "the patch tests and the coarsest P1 Cattaneo-Mindlin mesh only",
-).parse_args()
+)
+parser.add_argument(
+    "--fine",
+    action="store_true",
+    help="refine Cattaneo-Mindlin four times to 1%% brackets (MUMPS out of core) and check "
+    "c within 2%% and q within 5%%",
+)
+args = parser.parse_args()
 comm = MPI.COMM_WORLD
 out = output_folder(args.out, comm)
 log = rank0_print(comm)
 PATCH_BOUND, INCLINE_BOUND = 1e-10, 1e-8
+C_BOUND, Q_BOUND = 0.02, 0.05  # issue [4/6]: c within 2%, q within 5% (L2), with P2
 SIZES = {1: (0.02,)} if args.smoke else {1: (0.02, 0.01, 0.007), 2: (0.02, 0.014, 0.01)}
 records, failed = [], []
 # -
@@ -134,15 +147,16 @@ for degree, sizes in SIZES.items():
 # ## Cattaneo-Mindlin between spheres, refined by the solution
 
 # +
+FINE = {"tolerance": 0.01, "pressure_tolerance": 0.01, "max_steps": 0 if args.smoke else 4}
+COARSE = {"tolerance": 0.06, "pressure_tolerance": 0.05, "max_steps": 0 if args.smoke else 2}
 rec = cattaneo_mindlin_adaptive(
     comm,
     2,
     40,
-    tolerance=0.06,
-    max_steps=0 if args.smoke else 2,
-    pressure_tolerance=0.05,
     nu=0.0,
     steps=1,
+    petsc_options={"mat_mumps_icntl_22": 1} if args.fine else None,
+    **(FINE if args.fine else COARSE),
 )
 for key in ("r", "q", "p"):
     rec.pop(key)
@@ -156,6 +170,10 @@ for k, row in enumerate(rec["steps"]):
     )
 if abs(rec["c_middle"] - rec["c_exact"]) > rec["h"]:
     failed.append(f"refined P2: c off by {abs(rec['c_middle'] - rec['c_exact']) / rec['h']:.2f} h")
+if args.fine and not args.smoke and rec["c_middle_error"] > C_BOUND:
+    failed.append(f"refined P2: c off by {rec['c_middle_error']:.2%}")
+if args.fine and not args.smoke and rec["q_L2_error"] > Q_BOUND:
+    failed.append(f"refined P2: q off by {rec['q_L2_error']:.2%} (L2)")
 # -
 
 # ## Results
@@ -235,7 +253,9 @@ if comm.rank == 0:
         "Refined by the solution (P2 from a user's mesh of size R/40 near the contact, "
         "around the contact and stick fronts and where λ is far from the plane through "
         "its neighbours' values; nu = 0, one tangential step; bracket: the widest "
-        "front's, relative to its radius; c: the middle of the stick front's bracket):",
+        "front's, relative to its radius, refined while above "
+        + ", ".join(f"{x['tolerance']:.0%}" for x in mine if x["scene"].endswith("adaptive"))
+        + "; c: the middle of the stick front's bracket):",
         "",
         "| mesh | unknowns | bracket | c error | L2(q) | L2(p) | solves | s |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|",

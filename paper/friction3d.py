@@ -416,6 +416,7 @@ def cattaneo_mindlin_adaptive(
     max_steps: int = 3,
     nu: float = NU,
     steps: int = 4,
+    petsc_options: dict[str, typing.Any] | None = None,
     **options: typing.Any,
 ) -> dict[str, typing.Any]:
     r""":func:`cattaneo_mindlin` from a user's mesh (size :math:`R/n`), refined by the solution.
@@ -425,7 +426,8 @@ def cattaneo_mindlin_adaptive(
     most ``tolerance`` times their radii (or ``max_steps`` refinements): new nodes on the
     spheres (:func:`paper.hertz3d.projection`), geometry of degree ``degree``;
     ``options`` go to it (e.g. ``pressure_tolerance``). ``nu`` and ``steps`` as in
-    :func:`cattaneo_mindlin`.
+    :func:`cattaneo_mindlin`; ``petsc_options`` to every problem's linear solves (MUMPS
+    out of core, ``{"mat_mumps_icntl_22": 1}``, where the factors outgrow the memory).
 
     Returns:
         The record of :func:`cattaneo_mindlin_measure` on the last mesh (``h`` the
@@ -446,6 +448,7 @@ def cattaneo_mindlin_adaptive(
         (mesh, ct, ft),
         mu=CM_MU,
         prefix=f"cm3da{degree}_",
+        petsc_options=petsc_options,
         tolerance=tolerance,
         max_steps=max_steps,
         snap=hertz3d.projection(CM_SCENE),

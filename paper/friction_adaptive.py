@@ -48,6 +48,7 @@ def refined_load_path(
     *,
     mu: float,
     prefix: str,
+    petsc_options: dict[str, typing.Any] | None = None,
     **refine: typing.Any,
 ) -> dict[str, typing.Any]:
     """Refine a frictional scene by its solution; the record on the last mesh.
@@ -60,6 +61,8 @@ def refined_load_path(
         mesh: The user's ``(mesh, cell_tags, facet_tags)``.
         mu: The friction coefficient.
         prefix: The problems' PETSc options prefix.
+        petsc_options: Options of the problems' linear solves (e.g. MUMPS out of core,
+            ``{"mat_mumps_icntl_22": 1}``, for meshes whose factors do not fit in memory).
         refine: The arguments of :func:`refine_contact_zone`.
 
     Returns:
@@ -75,7 +78,9 @@ def refined_load_path(
     def build(domain, cell_tags, facet_tags):
         a_form, L, bcs, pair, m = model(domain, facet_tags)
         motion[:] = [m]
-        return FrictionalContactProblem(a_form, L, [pair], bcs, mu=mu, petsc_options_prefix=prefix)
+        return FrictionalContactProblem(
+            a_form, L, [pair], bcs, mu=mu, petsc_options_prefix=prefix, petsc_options=petsc_options
+        )
 
     def solve(problem, first):
         solves.append(path(problem, motion[0], first))
