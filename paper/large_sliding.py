@@ -47,6 +47,7 @@ __all__ = [
     "ironing",
     "ironing_mesh",
     "neo_hookean",
+    "newton_order_probe",
     "oscillation",
     "sliding_patch",
     "stretch",
@@ -216,7 +217,8 @@ def sliding_patch(
 
     Returns:
         Per slide: the errors of lambda and u, the Newton iterations and the measured
-        orders (Newton's full tangent).
+        orders (Newton's full tangent); ``probe``: :func:`newton_order_probe` at the
+        last slide.
     """
     scene = SlidingScene(degree, comm)
     linearization = "full"
@@ -243,12 +245,14 @@ def sliding_patch(
                     "orders": problem.step.orders,
                 }
             )
+        probe = newton_order_probe(problem)
     return {
         "scene": "large-sliding-patch",
         "degree": degree,
         "method": method,
         "linearization": linearization,
         "steps": steps,
+        "probe": probe,
     }
 
 
@@ -322,7 +326,8 @@ def ironing(
 
     Returns:
         ``s`` and ``d`` (the die's slide and press), ``fx`` and ``fy`` (the force on the
-        die's top ends), ``iterations`` and ``orders`` per step, ``oscillation`` and
+        die's top ends), ``iterations`` and ``orders`` per step, ``probe``
+        (:func:`newton_order_probe` at the end of the slide), ``oscillation`` and
         ``horizontal_oscillation`` (see :func:`oscillation`), ``unknowns``,
         ``contact_facets`` and ``seconds``.
     """
@@ -378,6 +383,9 @@ def ironing(
                     f"ironing h = {h:g} {method}: s = {s:.2f}, d = {d:.2f}: force "
                     f"({fx:+.5f}, {fy:+.5f}), {len(step.iterations) - 1} iterations"
                 )
+        # The die is 1000 times stiffer than the block: 1e-3 of the slide on it moves the
+        # forces past their scale, outside the range where the slope means an order.
+        record["probe"] = newton_order_probe(problem, (1e-4, 1e-5, 1e-6))
     record.update(
         scene="ironing",
         h=h,
@@ -411,3 +419,87 @@ def oscillation(record: dict[str, typing.Any], component: str = "fy") -> float:
     x, y = s[window], f[window]
     deviation = y - np.polyval(np.polyfit(x, y, 2 if component == "fy" else 3), x)
     return float(np.ptp(deviation) / np.mean(np.abs(fy[window])))
+
+
+def newton_order_probe(
+    problem: NonlinearContactProblem, sizes: typing.Sequence[float] = (1e-3, 1e-4, 1e-5)
+) -> dict[str, typing.Any]:
+    r"""Newton's local order at a converged state, from starts at known distances.
+
+    The three-point order :math:`\log(r_{k+1}/r_k) / \log(r_k/r_{k-1})` of one step's
+    residuals assumes one constant :math:`C` in :math:`r_{k+1} = C r_k^p`; with the
+    two or three iterations a step has between its first guess and round-off, a
+    :math:`C` that changes with the direction of the error (measured on the P2 sliding
+    patch: 0.15 then 1.5) moves it far from :math:`p`. Here the start is the converged
+    :math:`\mathbf u^*` plus :math:`\varepsilon\, \|\mathbf u^*\|_\infty\, \mathbf w`
+    for each size :math:`\varepsilon` (``w`` a fixed smooth field of the coordinates,
+    so the same on any partition; the multipliers at their converged values): its
+    residual :math:`r_1`, and :math:`r_2` after one Newton iteration with the full
+    tangent (``solve(tangent_first=True)``) that left the active set alone; :math:`p` is
+    the slope of :math:`\log r_2` against :math:`\log r_1` over the sizes (one
+    direction of the error, so one :math:`C`; not after an iteration without the tangent,
+    which turns the error's direction with its size). The state is restored afterwards
+    (collective).
+
+    Returns:
+        ``order``, the pairs ``r1`` and ``r2`` per size (absolute: the force scale moves
+        with the start), ``sizes``, ``settled`` (the iteration changed no active
+        multiplier, at every size) and ``above_floor`` (every :math:`r_2` a hundred
+        times above the converged state's residual: not round-off).
+    """
+    u = problem.u
+    floor = problem.step.iterations[-1] if problem.step.iterations else None
+    if floor is None or not problem.step.converged:
+        raise ValueError("probe a converged state: call solve() first")
+    saved = [ui.x.array.copy() for ui in u]
+    multipliers = [f.x.array.copy() for f in problem.multipliers]
+    scale = problem.comm.allreduce(
+        max(float(np.max(np.abs(a), initial=0.0)) for a in saved), op=MPI.MAX
+    )
+
+    def field(x):
+        return np.stack(
+            [
+                np.sin(3.1 * x[i] + 1.7 * x[(i + 1) % x.shape[0]] + 0.3 * i)
+                for i in range(u[0].function_space.mesh.geometry.dim)
+            ]
+        )
+
+    directions = []
+    for ui in u:
+        w = dolfinx.fem.Function(ui.function_space)
+        w.interpolate(field)
+        directions.append(w.x.array.copy())
+    r1, r2, settled = [], [], True
+    try:
+        for eps in sizes:
+            for ui, base, w in zip(u, saved, directions, strict=True):
+                ui.x.array[:] = base + eps * scale * w
+            for f, lam in zip(problem.multipliers, multipliers, strict=True):
+                f.x.array[:] = lam
+            problem.solve(tangent_first=True)
+            its = problem.step.iterations
+            if len(its) < 2 or its[0].frozen:
+                raise RuntimeError(
+                    f"the probe at size {eps:g} did not take a Newton iteration with the "
+                    "tangent (no tangent, or a start already converged: take larger sizes)"
+                )
+            # Absolute residuals: the force scale moves with the start.
+            r1.append(its[0].residual * its[0].scale)
+            r2.append(its[1].residual * its[1].scale)
+            settled &= not its[0].changed
+    finally:
+        for ui, base in zip(u, saved, strict=True):
+            ui.x.array[:] = base
+        for f, lam in zip(problem.multipliers, multipliers, strict=True):
+            f.x.array[:] = lam
+    order = float(np.polyfit(np.log(r1), np.log(r2), 1)[0])
+    above_floor = min(r2) >= 100 * floor.residual * floor.scale
+    return {
+        "order": order,
+        "r1": r1,
+        "r2": r2,
+        "sizes": list(sizes),
+        "settled": settled,
+        "above_floor": bool(above_floor),
+    }

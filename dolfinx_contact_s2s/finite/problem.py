@@ -446,8 +446,14 @@ class NonlinearContactProblem:
                 f.x.array[:] = lam0 + alpha * (f.x.array - lam0)
         return alpha
 
-    def solve(self) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
+    def solve(
+        self, tangent_first: bool = False
+    ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         """Newton's method from the current :attr:`u` (collective).
+
+        Args:
+            tangent_first: The first iteration with the coupling's change too (for a
+                start near the solution under the same loads; by default it is left out).
 
         Returns:
             The displacements (the functions ``u``, updated) and the multipliers.
@@ -482,7 +488,7 @@ class NonlinearContactProblem:
             # The first iteration of a step moves to its new loads with the last state's
             # coupling: far from the solution the tangent's unsymmetric terms can make
             # the active-set iteration cycle (a P2 block slid by three elements at once).
-            it.frozen = self.tangent is None or len(step.iterations) == 1
+            it.frozen = self.tangent is None or (len(step.iterations) == 1 and not tangent_first)
             try:
                 active, it.solves = self._linear_solve(active, it.frozen)
             except ContactConvergenceError:

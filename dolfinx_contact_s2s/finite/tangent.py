@@ -256,14 +256,19 @@ class ContactTangent:
         for ((kind, i), j), M in self.blocks.items():
             if kind != "u":
                 continue
-            Hm = M.copy()
-            Hm.diagonalScale(masks[i], masks[j])
+            # The right side takes every column: -H_k (u_k - U_D) on the Dirichlet dofs
+            # is the change of the contact force as they move to their values U_D (zero
+            # once they hold them, in every iteration after a step's first).
+            Hr = M.copy()
+            Hr.diagonalScale(masks[i], None)
             w = PETSc.Vec().createWithArray(self.u[j].copy(), comm=system.comm)
             w.axpy(-load, values[j])
-            y = Hm.createVecLeft()
-            Hm.mult(w, y)
+            y = Hr.createVecLeft()
+            Hr.mult(w, y)
             rhs[i].axpy(-1.0, y)
-            self._objects += [w, y]
+            Hm = M.copy()
+            Hm.diagonalScale(masks[i], masks[j])
+            self._objects += [w, y, Hr]
             if blocks[i][j] is None:
                 Hm.scale(-1.0)
                 blocks[i][j] = Hm

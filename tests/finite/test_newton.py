@@ -16,7 +16,14 @@ import ufl
 
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.finite import NonlinearContactProblem, NonlinearConvergenceError
-from paper.large_sliding import BOTTOM, MATERIALS, TOP, SlidingScene, neo_hookean
+from paper.large_sliding import (
+    BOTTOM,
+    MATERIALS,
+    TOP,
+    SlidingScene,
+    neo_hookean,
+    newton_order_probe,
+)
 
 comm = MPI.COMM_WORLD
 
@@ -63,7 +70,9 @@ def test_large_sliding_patch_test(degree):
                 "r_k+1 / r_k^2 is 0.15 then 1.5 (bounded; the tangent's step 1e-4 to 1e-7 "
                 "and the quadrature of F and J change nothing), and slides of 0.02, 0.08 "
                 "and 0.12 from a settled state give 2.0-3.1: the three-point order reads "
-                "a first step better than quadratic as a lower order",
+                "a first step better than quadratic as a lower order. From starts at "
+                "known distances along one direction the order is 2.00 "
+                "(test_newton_order_from_known_distances)",
             ),
         ),
     ],
@@ -79,6 +88,29 @@ def test_large_sliding_newton_order(degree):
             problem.solve()
             # Orders of falling residuals of iterations that left the contact set alone.
             assert max(problem.step.orders, default=0.0) > 1.8
+
+
+@pytest.mark.parametrize("degree", [1, 2])
+def test_newton_order_from_known_distances(degree):
+    """Starts at 1e-3, 1e-4, 1e-5 of the two-element slide's state: order 2 (one C).
+
+    With the full tangent from the first iteration (``tangent_first``), Dirichlet dofs
+    moved too: their contact-force change is on the right side of Newton's system.
+    """
+    scene = SlidingScene(degree)
+    with NonlinearContactProblem(
+        scene.F, scene.u, [scene.pair()], scene.bcs, petsc_options_prefix="sliding_probe_"
+    ) as problem:
+        for k in (0, 2):
+            scene.set_slide(k / 13)
+            problem.solve()
+        probe = newton_order_probe(problem)
+        assert probe["settled"] and probe["above_floor"]
+        assert probe["order"] > 1.8
+        # The state is restored: the patch test's exact answer.
+        lam_error, u_error = scene.errors(problem.multipliers[0], 2 / 13)
+        assert lam_error <= 1e-9
+        assert u_error <= 1e-9
 
 
 def test_large_sliding_node_to_segment_fails_the_patch_test():
