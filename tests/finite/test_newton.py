@@ -105,7 +105,9 @@ def test_newton_order_from_known_distances(degree):
             scene.set_slide(k / 13)
             problem.solve()
         probe = newton_order_probe(problem)
-        assert probe["settled"] and probe["above_floor"]
+        # Not "above_floor": its floor is the residual Newton stopped at (up to rtol), on
+        # 2 ranks above the probe's smallest r2 (a weak floor, not round-off).
+        assert probe["settled"]
         assert probe["order"] > 1.8
         # The state is restored: the patch test's exact answer.
         lam_error, u_error = scene.errors(problem.multipliers[0], 2 / 13)
