@@ -445,7 +445,8 @@ def newton_order_probe(
         ``order``, the pairs ``r1`` and ``r2`` per size (absolute: the force scale moves
         with the start), ``sizes``, ``settled`` (the iteration changed no active
         multiplier, at every size) and ``above_floor`` (every :math:`r_2` a hundred
-        times above the converged state's residual: not round-off).
+        times above the residual Newton stopped at, which may be anything up to its
+        ``rtol``: a weak guard, not a round-off floor; the tests do not assert it).
     """
     u = problem.u
     floor = problem.step.iterations[-1] if problem.step.iterations else None
