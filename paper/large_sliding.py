@@ -18,8 +18,13 @@ the die's top ends are pressed down by 1.4, then moved along :math:`x` by 4,
 frictionless. The force on the die's top ends is recorded at every step. Its vertical
 component's oscillation over the steady slide (:math:`1 \le s \le 3`, the contact zone
 away from the block's ends) is measured as the range of its deviation from a least-squares
-quadratic in :math:`s`, over its mean: a smooth force has none; the horizontal one's
-from a cubic, over the same mean.
+quartic in :math:`s`, over its mean; the horizontal one's over the same mean. The quartic
+takes out the force's trend over the window (wavelengths of about half the window and
+longer), and leaves the ripple of nodes passing facets (a few elements long): a smooth
+force has none. The die may be meshed coarser than the block (``die_h``): a tool meshed
+coarser than the workpiece, with the multiplier on the tool, is where node-to-segment's
+force jumps as the block's nodes pass the die's nodes and segment-to-segment's integral
+does not.
 """
 
 from __future__ import annotations
@@ -216,9 +221,9 @@ def sliding_patch(
     """The large-sliding patch test: slides of ``elements`` lower elements, in turn.
 
     Returns:
-        Per slide: the errors of lambda and u, the Newton iterations and the measured
-        orders (Newton's full tangent); ``probe``: :func:`newton_order_probe` at the
-        last slide.
+        Per slide: the errors of lambda and u, the Newton iterations, the measured
+        orders of its residuals (Newton's full tangent) and ``probe``
+        (:func:`newton_order_probe` at its solution); ``probe``: the last slide's.
     """
     scene = SlidingScene(degree, comm)
     linearization = "full"
@@ -243,9 +248,10 @@ def sliding_patch(
                     "u_error": u_error,
                     "iterations": len(problem.step.iterations) - 1,
                     "orders": problem.step.orders,
+                    "probe": newton_order_probe(problem),
                 }
             )
-        probe = newton_order_probe(problem)
+        probe = steps[-1]["probe"]
     return {
         "scene": "large-sliding-patch",
         "degree": degree,
@@ -256,8 +262,11 @@ def sliding_patch(
     }
 
 
-def ironing_mesh(comm: MPI.Comm, h: float) -> tuple:
-    """The block and the die in one Gmsh model, triangles of size ``h`` (collective)."""
+def ironing_mesh(comm: MPI.Comm, h: float, die_h: float | None = None) -> tuple:
+    """The block and the die in one Gmsh model, triangles of size ``h`` (collective).
+
+    ``die_h``: the die's triangles' size, if not ``h`` (a Gmsh ``Constant`` field on it).
+    """
     import gmsh
 
     (L, H), (R, r), x0 = IRONING["block"], IRONING["radii"], IRONING["x0"]
@@ -293,8 +302,17 @@ def ironing_mesh(comm: MPI.Comm, h: float) -> tuple:
                     groups[DIE_ARC].append(tag)
             for tag, curves in groups.items():
                 gmsh.model.addPhysicalGroup(1, curves, tag)
-            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", h)
+            if die_h is None or die_h == h:
+                gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+                gmsh.option.setNumber("Mesh.MeshSizeMin", h)
+            else:
+                field = gmsh.model.mesh.field.add("Constant")
+                gmsh.model.mesh.field.setNumber(field, "VIn", die_h)
+                gmsh.model.mesh.field.setNumber(field, "VOut", h)
+                gmsh.model.mesh.field.setNumbers(field, "SurfacesList", [die_tag])
+                gmsh.model.mesh.field.setAsBackgroundMesh(field)
+                for option in ("FromPoints", "FromCurvature", "ExtendFromBoundary"):
+                    gmsh.option.setNumber(f"Mesh.MeshSize{option}", 0)
             gmsh.model.mesh.generate(2)
         return model_to_mesh(gmsh.model, comm, 0, gdim=2)
 
@@ -317,22 +335,27 @@ def ironing(
     slide_steps: int = 40,
     log: typing.Callable[[str], None] | None = None,
     contactor: str = "block",
+    die_h: float | None = None,
+    probe_steps: bool = False,
 ) -> dict[str, typing.Any]:
     """The ironing study on triangles of size ``h``: the die's force at every step.
 
     Newton with the full tangent for either method. ``contactor``: the surface that
     carries the multiplier, ``"block"`` (its top; the die's outer arc is the target) or
-    ``"die"`` (its outer arc, on the block's top).
+    ``"die"`` (its outer arc, on the block's top). ``die_h``: the die's triangles' size
+    (default ``h``). ``probe_steps``: :func:`newton_order_probe` at every step's solution
+    (three more Newton iterations a step), not only at the end.
 
     Returns:
         ``s`` and ``d`` (the die's slide and press), ``fx`` and ``fy`` (the force on the
-        die's top ends), ``iterations`` and ``orders`` per step, ``probe``
-        (:func:`newton_order_probe` at the end of the slide), ``oscillation`` and
+        die's top ends), ``h`` and ``die_h``, ``iterations`` and ``orders`` per step,
+        ``probes`` (per step, the probe's order and whether its set settled, or ``None``),
+        ``probe`` (:func:`newton_order_probe` at the end of the slide), ``oscillation`` and
         ``horizontal_oscillation`` (see :func:`oscillation`), ``unknowns``,
         ``contact_facets`` and ``seconds``.
     """
     begin = time.perf_counter()
-    mesh, cell_tags, facet_tags = ironing_mesh(comm, h)
+    mesh, cell_tags, facet_tags = ironing_mesh(comm, h, die_h)
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (2,)))
     u = dolfinx.fem.Function(V, name="u")
     dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
@@ -356,7 +379,10 @@ def ironing(
     path = [(0.0, press * k / press_steps) for k in range(1, press_steps + 1)]
     path += [(slide * k / slide_steps, press) for k in range(1, slide_steps + 1)]
     record: dict[str, typing.Any] = {k: [] for k in ("s", "d", "fx", "fy", "iterations")}
-    record["orders"] = []
+    record["orders"], record["probes"] = [], []
+    # The die is 1000 times stiffer than the block: 1e-3 of the slide on it moves the
+    # forces past their scale, outside the range where the slope means an order.
+    sizes = (1e-4, 1e-5, 1e-6)
     form = dolfinx.fem.form(F)
     with NonlinearContactProblem(
         F,
@@ -378,17 +404,18 @@ def ironing(
             record["fy"].append(float(fy))
             record["iterations"].append(len(step.iterations) - 1)
             record["orders"].append(step.orders)
+            probe = newton_order_probe(problem, sizes) if probe_steps else None
+            record["probes"].append(None if probe is None else [probe["order"], probe["settled"]])
             if log is not None:
                 log(
                     f"ironing h = {h:g} {method}: s = {s:.2f}, d = {d:.2f}: force "
                     f"({fx:+.5f}, {fy:+.5f}), {len(step.iterations) - 1} iterations"
                 )
-        # The die is 1000 times stiffer than the block: 1e-3 of the slide on it moves the
-        # forces past their scale, outside the range where the slope means an order.
-        record["probe"] = newton_order_probe(problem, (1e-4, 1e-5, 1e-6))
+        record["probe"] = newton_order_probe(problem, sizes) if probe is None else probe
     record.update(
         scene="ironing",
         h=h,
+        die_h=h if die_h is None else die_h,
         method=method,
         contactor=contactor,
         linearization=linearization,
@@ -406,18 +433,18 @@ def ironing(
 def oscillation(record: dict[str, typing.Any], component: str = "fy") -> float:
     """A force component's oscillation over the steady slide (see the module's text).
 
-    The range of ``component`` (``"fy"`` or ``"fx"``) minus its least-squares cubic in
+    The range of ``component`` (``"fy"`` or ``"fx"``) minus its least-squares quartic in
     ``s``, over the pressed steps with ``s`` in :data:`IRONING`'s ``"steady"`` window,
-    divided by the mean of ``|fy|`` there (the horizontal force changes sign). A
-    quadratic for ``fy``, symmetric about the middle of the slide.
+    divided by the mean of ``|fy|`` there (the horizontal force changes sign). NaN with
+    fewer than 8 steps in the window.
     """
     s, f, fy, d = (np.asarray(record[k]) for k in ("s", component, "fy", "d"))
     low, high = IRONING["steady"]
     window = (d == IRONING["press"]) & (s >= low - 1e-12) & (s <= high + 1e-12)
-    if np.count_nonzero(window) < 5:
+    if np.count_nonzero(window) < 8:
         return math.nan
     x, y = s[window], f[window]
-    deviation = y - np.polyval(np.polyfit(x, y, 2 if component == "fy" else 3), x)
+    deviation = y - np.polyval(np.polyfit(x, y, 4), x)
     return float(np.ptp(deviation) / np.mean(np.abs(fy[window])))
 
 
@@ -435,16 +462,17 @@ def newton_order_probe(
     for each size :math:`\varepsilon` (``w`` a fixed smooth field of the coordinates,
     so the same on any partition; the multipliers at their converged values): its
     residual :math:`r_1`, and :math:`r_2` after one Newton iteration with the full
-    tangent (``solve(tangent_first=True)``) that left the active set alone; :math:`p` is
-    the slope of :math:`\log r_2` against :math:`\log r_1` over the sizes (one
+    tangent (``solve(tangent_first=True, iterations=1)``) that left the active set
+    alone; :math:`p` is the slope of :math:`\log r_2` against :math:`\log r_1` over the sizes (one
     direction of the error, so one :math:`C`; not after an iteration without the tangent,
-    which turns the error's direction with its size). The state is restored afterwards
-    (collective).
+    which turns the error's direction with its size). The state (displacements,
+    multipliers, active sets and :attr:`~NonlinearContactProblem.step`) is restored
+    afterwards, so the next load step starts where the solve left it (collective).
 
     Returns:
         ``order``, the pairs ``r1`` and ``r2`` per size (absolute: the force scale moves
-        with the start), ``sizes``, ``settled`` (the iteration changed no active
-        multiplier, at every size) and ``above_floor`` (every :math:`r_2` a hundred
+        with the start), ``sizes``, ``settled`` (at every size the iteration took the
+        tangent and changed no active multiplier) and ``above_floor`` (every :math:`r_2` a hundred
         times above the residual Newton stopped at, which may be anything up to its
         ``rtol``: a weak guard, not a round-off floor; the tests do not assert it).
     """
@@ -452,8 +480,10 @@ def newton_order_probe(
     floor = problem.step.iterations[-1] if problem.step.iterations else None
     if floor is None or not problem.step.converged:
         raise ValueError("probe a converged state: call solve() first")
+    step = problem.step
     saved = [ui.x.array.copy() for ui in u]
     multipliers = [f.x.array.copy() for f in problem.multipliers]
+    active = [f.x.array.copy() for f in problem.active]
     scale = problem.comm.allreduce(
         max(float(np.max(np.abs(a), initial=0.0)) for a in saved), op=MPI.MAX
     )
@@ -476,24 +506,30 @@ def newton_order_probe(
         for eps in sizes:
             for ui, base, w in zip(u, saved, directions, strict=True):
                 ui.x.array[:] = base + eps * scale * w
-            for f, lam in zip(problem.multipliers, multipliers, strict=True):
-                f.x.array[:] = lam
-            problem.solve(tangent_first=True)
+            for functions, arrays in ((problem.multipliers, multipliers), (problem.active, active)):
+                for f, a in zip(functions, arrays, strict=True):
+                    f.x.array[:] = a
+            problem.solve(tangent_first=True, iterations=1)
             its = problem.step.iterations
-            if len(its) < 2 or its[0].frozen:
+            if len(its) < 2:
                 raise RuntimeError(
-                    f"the probe at size {eps:g} did not take a Newton iteration with the "
-                    "tangent (no tangent, or a start already converged: take larger sizes)"
+                    f"the probe's start at size {eps:g} had converged already: take larger sizes"
                 )
             # Absolute residuals: the force scale moves with the start.
             r1.append(its[0].residual * its[0].scale)
             r2.append(its[1].residual * its[1].scale)
-            settled &= not its[0].changed
+            # A start that moved the active set (or whose set cycled with the tangent, so
+            # the iteration went without it) says nothing about the order.
+            settled &= not (its[0].changed or its[0].frozen)
     finally:
-        for ui, base in zip(u, saved, strict=True):
-            ui.x.array[:] = base
-        for f, lam in zip(problem.multipliers, multipliers, strict=True):
-            f.x.array[:] = lam
+        for functions, arrays in (
+            (u, saved),
+            (problem.multipliers, multipliers),
+            (problem.active, active),
+        ):
+            for f, a in zip(functions, arrays, strict=True):
+                f.x.array[:] = a
+        problem.step = step
     order = float(np.polyfit(np.log(r1), np.log(r2), 1)[0])
     above_floor = min(r2) >= 100 * floor.residual * floor.scale
     return {

@@ -311,6 +311,11 @@ class NonlinearContactProblem:
         """The contact pressure of every pair (the Cauchy traction on the contactor)."""
         return self.problem.multipliers
 
+    @property
+    def active(self) -> list[dolfinx.fem.Function]:
+        """Every pair's active flags (1 on an active multiplier dof, 0 elsewhere)."""
+        return self.problem.active
+
     def place(self) -> None:
         r"""Place every contact surface at :math:`X + \mathbf u` (collective)."""
         for surface, i in self._surfaces:
@@ -447,13 +452,17 @@ class NonlinearContactProblem:
         return alpha
 
     def solve(
-        self, tangent_first: bool = False
+        self, tangent_first: bool = False, iterations: int | None = None
     ) -> tuple[list[dolfinx.fem.Function], list[dolfinx.fem.Function]]:
         """Newton's method from the current :attr:`u` (collective).
 
         Args:
             tangent_first: The first iteration with the coupling's change too (for a
                 start near the solution under the same loads; by default it is left out).
+            iterations: Stop after this many iterations, converged or not, without an
+                error (:attr:`step` holds the residual they reached): to measure the
+                iteration itself. Default ``None``: up to ``max_iterations``, then
+                :class:`NonlinearConvergenceError`.
 
         Returns:
             The displacements (the functions ``u``, updated) and the multipliers.
@@ -469,7 +478,8 @@ class NonlinearContactProblem:
         comm, problem = self.comm, self.problem
         active: list | None = None
         changed = -1
-        for _ in range(self.max_iterations + 1):
+        limit = self.max_iterations if iterations is None else int(iterations)
+        for _ in range(limit + 1):
             begin = time.perf_counter()
             self.check_cells()
             self.place()
@@ -480,7 +490,7 @@ class NonlinearContactProblem:
             if changed == 0 and small and gap <= self.rtol:
                 step.converged = True
                 break
-            if len(step.iterations) > self.max_iterations:
+            if len(step.iterations) > limit:
                 break
             before = self._active()
             start = [ui.x.array.copy() for ui in self.u]
@@ -514,7 +524,7 @@ class NonlinearContactProblem:
             it.seconds = comm.bcast(time.perf_counter() - begin, root=0)
             if self._monitor is not None:
                 self._monitor(it)
-        if not step.converged:
+        if not step.converged and iterations is None:
             raise NonlinearConvergenceError(
                 f"Newton's method did not converge in {self.max_iterations} iterations "
                 f"(residual {step.iterations[-1].residual:.3e}, rtol {self.rtol:g}); take "

@@ -71,8 +71,8 @@ def test_large_sliding_patch_test(degree):
                 "and the quadrature of F and J change nothing), and slides of 0.02, 0.08 "
                 "and 0.12 from a settled state give 2.0-3.1: the three-point order reads "
                 "a first step better than quadratic as a lower order. From starts at "
-                "known distances along one direction the order is 2.00 "
-                "(test_newton_order_from_known_distances)",
+                "known distances along one direction the order is 2.00 at every "
+                "step (test_newton_order_from_known_distances)",
             ),
         ),
     ],
@@ -92,10 +92,11 @@ def test_large_sliding_newton_order(degree):
 
 @pytest.mark.parametrize("degree", [1, 2])
 def test_newton_order_from_known_distances(degree):
-    """Starts at 1e-3, 1e-4, 1e-5 of the two-element slide's state: order 2 (one C).
+    """Starts at 1e-3, 1e-4, 1e-5 of every step's state: order 2 (one C).
 
-    With the full tangent from the first iteration (``tangent_first``), Dirichlet dofs
-    moved too: their contact-force change is on the right side of Newton's system.
+    The pressed state and the two-element slide. With the full tangent from the first
+    iteration (``tangent_first``), Dirichlet dofs moved too: their contact-force change
+    is on the right side of Newton's system.
     """
     scene = SlidingScene(degree)
     with NonlinearContactProblem(
@@ -104,15 +105,17 @@ def test_newton_order_from_known_distances(degree):
         for k in (0, 2):
             scene.set_slide(k / 13)
             problem.solve()
-        probe = newton_order_probe(problem)
-        # Not "above_floor": its floor is the residual Newton stopped at (up to rtol), on
-        # 2 ranks above the probe's smallest r2 (a weak floor, not round-off).
-        assert probe["settled"]
-        assert probe["order"] > 1.8
-        # The state is restored: the patch test's exact answer.
-        lam_error, u_error = scene.errors(problem.multipliers[0], 2 / 13)
-        assert lam_error <= 1e-9
-        assert u_error <= 1e-9
+            step = problem.step
+            probe = newton_order_probe(problem)
+            # Not "above_floor": its floor is the residual Newton stopped at (up to rtol),
+            # on 2 ranks above the probe's smallest r2 (a weak floor, not round-off).
+            assert probe["settled"]
+            assert probe["order"] > 1.8
+            # The state is restored: the patch test's exact answer, the step's history.
+            assert problem.step is step
+            lam_error, u_error = scene.errors(problem.multipliers[0], k / 13)
+            assert lam_error <= 1e-9
+            assert u_error <= 1e-9
 
 
 def test_large_sliding_node_to_segment_fails_the_patch_test():
@@ -226,6 +229,14 @@ def test_inverted_cells_and_slow_steps_raise():
     ) as problem:
         with pytest.raises(NonlinearConvergenceError, match=r"in 2 iterations(.|\n)*  1: residual"):
             problem.solve()
+        # Asked for one iteration: the residuals before and after it, and no error.
+        u[0].x.array[:] = 0.0
+        u[1].x.array[:] = 0.0
+        problem.solve(iterations=1)
+        assert not problem.step.converged
+        assert len(problem.step.iterations) == 2
+        first = problem.step.iterations[1].residual
+        assert problem.step.iterations[0].residual > first > 1e-10
     with pytest.raises(ValueError, match="contact must be"):
         NonlinearContactProblem(F, u, [pair], bcs, contact="sliding", petsc_options_prefix="x_")
 

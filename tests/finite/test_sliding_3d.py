@@ -34,7 +34,7 @@ import ufl
 from dolfinx_contact_s2s import contact_pair, contact_surface
 from dolfinx_contact_s2s.finite import NonlinearContactProblem
 from dolfinx_contact_s2s.meshing import curved_mesh
-from paper.large_sliding import neo_hookean, stretch
+from paper.large_sliding import neo_hookean, newton_order_probe, stretch
 
 comm = MPI.COMM_WORLD
 
@@ -195,3 +195,7 @@ def test_large_sliding_patch_test_3d(cell, degree):
             # (without it, linear convergence takes over 20 iterations here).
             assert len(problem.step.iterations) <= 7
             assert max(problem.step.orders, default=0.0) > 1.8
+        # And from starts at known distances of the last slide's solution (one C).
+        probe = newton_order_probe(problem)
+        assert probe["settled"]
+        assert probe["order"] > 1.8
