@@ -37,11 +37,12 @@
 # (segment-to-segment), node-to-segment off by more than $10^{-4}$; Newton's measured
 # order above 1.8 (`NewtonStep.orders`: settled iterations) on every slide step of the P1
 # and P2 patch tests; every ironing step converged. And Newton's local order from starts
-# at known distances (`paper.large_sliding.newton_order_probe`: the last state of each
-# run perturbed by 1e-3, 1e-4, 1e-5 of its largest displacement along one fixed field,
+# at known distances (`paper.large_sliding.newton_order_probe`: every step's solution
+# perturbed by 1e-3, 1e-4, 1e-5 of its largest displacement along one fixed field,
 # 1e-4 to 1e-6 on ironing's stiff die; the slope of the residual after one Newton
-# iteration with the full tangent against the one before, in a settled active set)
-# above 1.8 for the patch tests and every segment-to-segment ironing. On the coarse die
+# iteration with the full tangent against the one before) above 1.8 at every step of the
+# patch tests, and at every step of every segment-to-segment ironing whose active set
+# the probe left alone (the count is printed). On the coarse die
 # (not with `--smoke`, whose 20 steps do not resolve a ripple of one element): the
 # segment-to-segment oscillation a third of node-to-segment's or less at every $h$, and
 # falling with $h$ (the "smooth", and node-to-segment's "not"). The exit status is
