@@ -463,18 +463,19 @@ def newton_order_probe(
     so the same on any partition; the multipliers at their converged values): its
     residual :math:`r_1`, and :math:`r_2` after one Newton iteration with the full
     tangent (``solve(tangent_first=True, iterations=1)``) that left the active set
-    alone; :math:`p` is the slope of :math:`\log r_2` against :math:`\log r_1` over the sizes (one
-    direction of the error, so one :math:`C`; not after an iteration without the tangent,
-    which turns the error's direction with its size). The state (displacements,
+    alone; :math:`p` is the slope of :math:`\log r_2` against :math:`\log r_1` over
+    the sizes (one direction of the error, so one :math:`C`; not after an iteration
+    without the tangent, which turns the error's direction with its size). The state (displacements,
     multipliers, active sets and :attr:`~NonlinearContactProblem.step`) is restored
     afterwards, so the next load step starts where the solve left it (collective).
 
     Returns:
         ``order``, the pairs ``r1`` and ``r2`` per size (absolute: the force scale moves
         with the start), ``sizes``, ``settled`` (at every size the iteration took the
-        tangent and changed no active multiplier) and ``above_floor`` (every :math:`r_2` a hundred
-        times above the residual Newton stopped at, which may be anything up to its
-        ``rtol``: a weak guard, not a round-off floor; the tests do not assert it).
+        tangent and changed no active multiplier) and ``above_floor`` (every
+        :math:`r_2` a hundred times above the residual Newton stopped at, which may be
+        anything up to its ``rtol``: a weak guard, not a round-off floor; the tests do
+        not assert it).
     """
     u = problem.u
     floor = problem.step.iterations[-1] if problem.step.iterations else None
