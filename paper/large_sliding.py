@@ -336,20 +336,22 @@ def ironing(
     log: typing.Callable[[str], None] | None = None,
     contactor: str = "block",
     die_h: float | None = None,
-    probe_steps: bool = False,
+    probe_steps: int = 0,
 ) -> dict[str, typing.Any]:
     """The ironing study on triangles of size ``h``: the die's force at every step.
 
     Newton with the full tangent for either method. ``contactor``: the surface that
     carries the multiplier, ``"block"`` (its top; the die's outer arc is the target) or
     ``"die"`` (its outer arc, on the block's top). ``die_h``: the die's triangles' size
-    (default ``h``). ``probe_steps``: :func:`newton_order_probe` at every step's solution
-    (three more Newton iterations a step), not only at the end.
+    (default ``h``). ``probe_steps``: :func:`newton_order_probe` at the solution of every
+    ``probe_steps``-th step (three more Newton iterations each), not only at the end
+    (0).
 
     Returns:
         ``s`` and ``d`` (the die's slide and press), ``fx`` and ``fy`` (the force on the
         die's top ends), ``h`` and ``die_h``, ``iterations`` and ``orders`` per step,
-        ``probes`` (per step, the probe's order and whether its set settled, or ``None``),
+        ``probes`` (per step, the probe's order and whether its set settled, or ``None``
+        where it was not probed),
         ``probe`` (:func:`newton_order_probe` at the end of the slide), ``oscillation`` and
         ``horizontal_oscillation`` (see :func:`oscillation`), ``unknowns``,
         ``contact_facets`` and ``seconds``.
@@ -393,7 +395,7 @@ def ironing(
         max_iterations=80,
         petsc_options_prefix=f"ironing_{method[:4]}_{contactor}_",
     ) as problem:
-        for s, d in path:
+        for k, (s, d) in enumerate(path, start=1):
             motion.x.array.reshape(-1, 2)[:] = [s, -d]
             problem.solve()
             fx, fy = _held_force(form, held, V)
@@ -404,7 +406,8 @@ def ironing(
             record["fy"].append(float(fy))
             record["iterations"].append(len(step.iterations) - 1)
             record["orders"].append(step.orders)
-            probe = newton_order_probe(problem, sizes) if probe_steps else None
+            probed = probe_steps > 0 and k % probe_steps == 0
+            probe = newton_order_probe(problem, sizes) if probed else None
             record["probes"].append(None if probe is None else [probe["order"], probe["settled"]])
             if log is not None:
                 log(
