@@ -3,7 +3,7 @@
 # SPDX-License-Identifier: MIT
 """Print the import graph of the library as layers, its circles, and its module sizes.
 
-    python3 scripts/import_layers.py [--check] [--max-lines 600] [--max-total 20400]
+    python3 scripts/import_layers.py [--check] [--max-lines 600] [--max-total 20600]
 
 Reads the source with :mod:`ast` (nothing is imported, so no DOLFINx is needed). Every
 import of a library module counts: at module level, inside functions, and under
@@ -147,7 +147,7 @@ def main() -> int:
         "--check", action="store_true", help="exit 1 on a circle or a size over the limits"
     )
     parser.add_argument("--max-lines", type=int, default=600, help="longest module allowed")
-    parser.add_argument("--max-total", type=int, default=20400, help="longest library allowed")
+    parser.add_argument("--max-total", type=int, default=20600, help="longest library allowed")
     args = parser.parse_args()
     root = args.root
     files = sorted((root / PACKAGE).rglob("*.py"))
