@@ -15,6 +15,7 @@ __all__ = [
     "DOLFINX_VERSION",
     "blocked_sub_element",
     "create_mesh_in_place",
+    "create_petsc_vector",
     "geometry_dofmap",
     "gmsh_model_to_mesh",
     "refine_marked",
@@ -201,3 +202,12 @@ def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDAr
         count = math.comb(derivatives + X.shape[1], derivatives)
         return np.zeros((count, 0, element.dim))
     return element.tabulate(derivatives, X)
+
+
+def create_petsc_vector(V: dolfinx.fem.FunctionSpace) -> typing.Any:
+    """A ghosted PETSc vector of ``V`` (the API moved in DOLFINx 0.10; needs petsc4py)."""
+    if DOLFINX_VERSION >= (0, 10):
+        import dolfinx.fem.petsc
+
+        return dolfinx.fem.petsc.create_vector(V)
+    return dolfinx.la.create_petsc_vector(V.dofmap.index_map, V.dofmap.index_map_bs)

@@ -1,8 +1,14 @@
 # Copyright (C) 2026 dolfinx_contact_s2s developers
 # SPDX-License-Identifier: MIT
-"""Small linear-algebra helpers on PETSc objects: dense gather, symmetry test, ``y += t B u``."""
+"""Small linear-algebra helpers on PETSc objects.
+
+Dense gather, symmetry test, ``y += t B u``, and a matrix that keeps its nonzero pattern
+(and so its factorization) across assemblies.
+"""
 
 from __future__ import annotations
+
+import typing
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -10,7 +16,17 @@ from petsc4py import PETSc
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["SYMMETRY_TOLERANCE", "add_scaled", "gather_dense", "is_symmetric", "plain_vector"]
+__all__ = [
+    "SYMMETRY_TOLERANCE",
+    "KeptPattern",
+    "add_scaled",
+    "contains_pattern",
+    "gather_dense",
+    "indicator",
+    "is_symmetric",
+    "owned_vector",
+    "plain_vector",
+]
 
 
 def add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
@@ -25,6 +41,21 @@ def plain_vector(nest: PETSc.Mat) -> PETSc.Vec:
     """An MPI vector in the row layout of a ``MatNest`` (the nest reads it by index sets)."""
     n, N = nest.getSizes()[0]
     return PETSc.Vec().createMPI((n, N), comm=nest.getComm())
+
+
+def owned_vector(V: typing.Any, values: npt.NDArray[np.floating]) -> PETSc.Vec:
+    """A PETSc vector in the owned layout of the space ``V`` holding a copy of ``values``."""
+    n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+    return PETSc.Vec().createWithArray(np.array(values[:n]), comm=V.mesh.comm)
+
+
+def indicator(template: PETSc.Vec, off: npt.NDArray[np.int64]) -> PETSc.Vec:
+    """A vector of ``template``'s layout: 1, and 0 at the global indices ``off``."""
+    v = template.duplicate()
+    v.set(1.0)
+    start, end = v.getOwnershipRange()
+    v.array[off[(off >= start) & (off < end)] - start] = 0.0
+    return v
 
 
 def gather_dense(A: PETSc.Mat) -> npt.NDArray[np.floating]:
@@ -74,3 +105,81 @@ def is_symmetric(A: PETSc.Mat, rtol: float = SYMMETRY_TOLERANCE) -> bool:
     for v in (x, y, Ax, Ay):
         v.destroy()
     return bool(comm.allreduce(local, op=MPI.LAND)) and bool(probe)
+
+
+def _pattern_keys(A: PETSc.Mat) -> npt.NDArray[np.int64]:
+    """The owned nonzeros of an AIJ matrix as sorted ``local row * N + global column``."""
+    indptr, indices, _ = A.getValuesCSR()
+    rows = np.repeat(np.arange(indptr.size - 1, dtype=np.int64), np.diff(indptr))
+    return np.sort(rows * A.getSize()[1] + indices.astype(np.int64))
+
+
+def contains_pattern(P: PETSc.Mat, A: PETSc.Mat) -> bool:
+    """Whether every stored entry of ``A`` is a stored entry of ``P`` (collective; AIJ)."""
+    if P.getSizes() != A.getSizes():
+        inside = False
+    else:
+        keys = _pattern_keys(P)
+        inside = bool(np.isin(_pattern_keys(A), keys, assume_unique=True).all())
+    return bool(P.getComm().tompi4py().allreduce(inside, op=MPI.LAND))
+
+
+class KeptPattern:
+    """One AIJ matrix object whose nonzero pattern only grows, for a factorization to keep.
+
+    A KSP given the same matrix object with the same pattern refactors numerically on
+    the same factor object (PETSc's ``SAME_NONZERO_PATTERN``); a new matrix object makes
+    a new factor. Each new MUMPS instance on more than one process leaks MPI
+    communicators (measured with PETSc 3.22 and 3.25, about five per instance), and a
+    long run then stalls: a Newton step of moving contact (a new coupling every
+    iteration) uses one pattern, the union of its iterations' patterns.
+
+    :meth:`take` copies a freshly built matrix into the kept one; :meth:`renew` lets
+    the next :meth:`take` start from that matrix's own pattern if it is not contained
+    (a new load step: the union stays a step's, so the fill does not grow with the slide).
+    """
+
+    def __init__(self) -> None:
+        """Nothing kept yet."""
+        self.matrix: PETSc.Mat | None = None
+        #: Whether no :meth:`take` came since :meth:`renew` (or the start).
+        self.fresh = True
+        #: Patterns made by :meth:`take` (new matrix objects), for tests and benchmarks.
+        self.patterns = 0
+
+    def renew(self) -> None:
+        """The next :meth:`take` may replace the pattern instead of growing it."""
+        self.fresh = True
+
+    def take(self, A: PETSc.Mat, ksp: PETSc.KSP | None = None) -> PETSc.Mat:
+        """The kept matrix with the values of ``A`` (collective); ``A`` is destroyed.
+
+        Returns the same object as before if its pattern contains ``A``'s, otherwise a
+        new one: ``A`` itself after :meth:`renew`, else the union of both patterns.
+        ``ksp`` (the solver of the kept matrix) is reset if the sizes change.
+        """
+        P = self.matrix
+        if P is not None and ksp is not None and P.getSizes() != A.getSizes():
+            ksp.reset()
+        if P is not None and contains_pattern(P, A):
+            P.zeroEntries()
+            P.axpy(1.0, A, PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+            A.destroy()
+            self.fresh = False
+            return P
+        if P is not None and not self.fresh and P.getSizes() == A.getSizes():
+            union = P.copy()
+            union.zeroEntries()
+            union.axpy(1.0, A, PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+            A.destroy()
+            A = union
+        self.destroy()
+        self.matrix, self.fresh = A, False
+        self.patterns += 1
+        return A
+
+    def destroy(self) -> None:
+        """Destroy the kept matrix."""
+        if self.matrix is not None:
+            self.matrix.destroy()
+        self.matrix = None

@@ -32,8 +32,8 @@ import ufl
 from dolfinx_contact_s2s import checks, system_checks
 from dolfinx_contact_s2s.assemble import CouplingOperator, assemble_coupling
 from dolfinx_contact_s2s.checks.inputs import check_solver_types, check_stiffness
-from dolfinx_contact_s2s.compat import DOLFINX_VERSION
-from dolfinx_contact_s2s.la import add_scaled, plain_vector
+from dolfinx_contact_s2s.compat import create_petsc_vector
+from dolfinx_contact_s2s.la import KeptPattern, add_scaled, indicator, owned_vector, plain_vector
 from dolfinx_contact_s2s.options import PETScOptions, solve_retrying, solver_failure
 from dolfinx_contact_s2s.pair import ContactPair
 
@@ -61,29 +61,6 @@ TIMINGS = ("stiffness", "contact", "system", "solve")
 
 def _as_list(forms: typing.Any) -> list:
     return list(forms) if isinstance(forms, Sequence) else [forms]
-
-
-def _create_vector(V: dolfinx.fem.FunctionSpace) -> PETSc.Vec:
-    """A ghosted PETSc vector of ``V`` (the API moved in DOLFINx 0.10)."""
-    if DOLFINX_VERSION >= (0, 10):
-        return dolfinx.fem.petsc.create_vector(V)
-    return dolfinx.la.create_petsc_vector(V.dofmap.index_map, V.dofmap.index_map_bs)
-
-
-def _owned_vec(V: dolfinx.fem.FunctionSpace, values: npt.NDArray[np.floating]) -> PETSc.Vec:
-    """A PETSc vector in the owned layout of ``V`` holding a copy of ``values``."""
-    n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-    return PETSc.Vec().createWithArray(np.array(values[:n]), comm=V.mesh.comm)
-
-
-def _active(op: CouplingOperator, inactive: npt.NDArray[np.int64]) -> PETSc.Vec:
-    """1 for the constrained multipliers of a pair, 0 at the global dofs ``inactive``."""
-    active = op.G.duplicate()
-    active.set(1.0)
-    start, end = active.getOwnershipRange()
-    mine = inactive[(inactive >= start) & (inactive < end)]
-    active.array[mine - start] = 0.0
-    return active
 
 
 class ContactSystem:
@@ -161,7 +138,7 @@ class ContactSystem:
         self._K: list[PETSc.Mat] = []
         #: Whether every assembled :math:`\mathbf K` is symmetric (set by :meth:`assemble`).
         self.symmetric = True
-        self._loads = [_create_vector(V) for V in self.spaces]
+        self._loads = [create_petsc_vector(V) for V in self.spaces]
         # The bodies (connected components) and their rigid modes depend on the meshes
         # only: found once, used by the support check and given to GAMG.
         self._labels = [checks.connected_components(V.mesh)[0] for V in self.spaces]
@@ -202,6 +179,8 @@ class ContactSystem:
         check_solver_types(self.options, self.comm)
         self.solver = PETSc.KSP().create(self.comm)
         self.options.apply(self.solver)
+        #: The saddle point's kept pattern (:meth:`keep_pattern`), else None.
+        self.kept: KeptPattern | None = None
 
     @contextlib.contextmanager
     def timed(self, stage: str) -> Iterator[None]:
@@ -228,6 +207,16 @@ class ContactSystem:
     def linearized(self) -> bool:
         """Whether Newton's terms are set (:meth:`set_linearization`)."""
         return self._extra is not None or self._coupling is not assemble_coupling
+
+    def keep_pattern(self) -> KeptPattern | None:
+        """Keep one matrix, and so one factorization, across builds (:class:`KeptPattern`).
+
+        The rank check (Eq. 35, a factorization of its own) then runs at the first
+        assembly after each :meth:`KeptPattern.renew` only. None with ``kind="nest"``.
+        """
+        if self.kept is None and self.kind == "aij":
+            self.kept = KeptPattern()
+        return self.kept
 
     def set_solver_setup(self, setup: Callable[[ContactSystem], None] | None) -> None:
         """Call ``setup(self)`` each time the solver is configured for a new system.
@@ -333,14 +322,14 @@ class ContactSystem:
         keep.x.array[:] = 1.0
         for bc in self.bcs_by_space[i]:
             keep.x.array[bc.dof_indices()[0]] = 0.0
-        return _owned_vec(self.spaces[i], keep.x.array)
+        return owned_vector(self.spaces[i], keep.x.array)
 
     def dirichlet_values(self, i: int) -> PETSc.Vec:
         """The Dirichlet values of space ``i``, zero elsewhere (owned layout); destroy it."""
         values = dolfinx.fem.Function(self.spaces[i])
         for bc in self.bcs_by_space[i]:
             bc.set(values.x.array)
-        return _owned_vec(self.spaces[i], values.x.array)
+        return owned_vector(self.spaces[i], values.x.array)
 
     def _destroy_system(self) -> None:
         for obj in self._system:
@@ -369,7 +358,8 @@ class ContactSystem:
                 or constraints are redundant.
         """
         self._destroy_assembly()
-        self.solver.reset()  # the sizes may change (build(extra=) before)
+        if self.kept is None:
+            self.solver.reset()  # the sizes may change (build(extra=) before)
         if not self._K:
             self._create_stiffness()
         with self.timed("stiffness"):
@@ -415,9 +405,10 @@ class ContactSystem:
                     self.space_index,
                     self._labels,
                 )
-                system_checks.check_redundancy(
-                    self.pairs, self.operators, self._masks, self.space_index
-                )
+                if self.kept is None or self.kept.fresh:
+                    system_checks.check_redundancy(
+                        self.pairs, self.operators, self._masks, self.space_index
+                    )
         self.build()
 
     def build(
@@ -450,7 +441,7 @@ class ContactSystem:
         # the previous factorization first, so that K is never stored twice beside a factor.
         # A field split of the nest holds the previous blocks: freed before they go too.
         extracted = [] if self._K else [self.stiffness_matrix(i) for i in range(nb)]
-        if extracted or self.A is not None:
+        if (extracted or self.A is not None) and self.kept is None:
             self.solver.reset()
         self._destroy_system()
         blocks: list[list[PETSc.Mat | None]] = [[None] * (nb + npairs) for _ in range(nb + npairs)]
@@ -464,7 +455,7 @@ class ContactSystem:
             self._system.append(f)
         for j, op in enumerate(self.operators):
             off = op.inactive if released is None else np.union1d(op.inactive, released[j])
-            active = _active(op, off)
+            active = indicator(op.G, off)
             G = op.gap(load)  # with the rigid targets' motions at this load
             masked = []
             for V, B in op.blocks:
@@ -516,7 +507,10 @@ class ContactSystem:
             for K in extracted:
                 K.destroy()
             self._release_stiffness()
-            self._system.append(self.A)
+            if self.kept is None:
+                self._system.append(self.A)
+            else:
+                self.A = self.kept.take(self.A, self.solver)
             self.b = self.A.createVecLeft()
         self.x = self.b.duplicate()
         self._system.extend([self.b, self.x])
@@ -597,4 +591,6 @@ class ContactSystem:
         self._destroy_assembly()
         for obj in [self.solver, *self._K, *self._loads, *self.near_nullspaces]:
             obj.destroy()
+        if self.kept is not None:
+            self.kept.destroy()
         self.options.clear()

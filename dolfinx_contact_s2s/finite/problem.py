@@ -275,6 +275,9 @@ class NonlinearContactProblem:
             if not s.rigid
         ]
         self._jacobians = [self._det_form(ui) for ui in self.u]
+        # One factorization per load step, not per iteration (KeptPattern: each new
+        # MUMPS instance on several processes leaks communicators).
+        self.problem.system.keep_pattern()
         self.tangent: ContactTangent | None = None
         if linearization == "full":
             self.tangent = ContactTangent(self.problem.system)
@@ -476,6 +479,8 @@ class NonlinearContactProblem:
         """
         self.step = step = NewtonStep()
         comm, problem = self.comm, self.problem
+        if problem.system.kept is not None:
+            problem.system.kept.renew()
         active: list | None = None
         changed = -1
         limit = self.max_iterations if iterations is None else int(iterations)
