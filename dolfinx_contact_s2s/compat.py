@@ -207,7 +207,7 @@ def tabulate(element, derivatives: int, X: npt.NDArray[np.floating]) -> npt.NDAr
 def create_petsc_vector(V: dolfinx.fem.FunctionSpace) -> typing.Any:
     """A ghosted PETSc vector of ``V`` (the API moved in DOLFINx 0.10; needs petsc4py)."""
     if DOLFINX_VERSION >= (0, 10):
-        import dolfinx.fem.petsc
+        from dolfinx.fem import petsc
 
-        return dolfinx.fem.petsc.create_vector(V)
+        return petsc.create_vector(V)
     return dolfinx.la.create_petsc_vector(V.dofmap.index_map, V.dofmap.index_map_bs)
