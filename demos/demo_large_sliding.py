@@ -74,8 +74,8 @@ log = rank0_print(comm)
 DEGREES = (1,) if args.smoke else (1, 2)
 SIZES = (0.6,) if args.smoke else (0.6, 0.3, 0.15)
 SLIDES = 20 if args.smoke else 160
-# Newton's order probed at every 10th ironing step: each probe is three more MUMPS
-# factorizations, and on several processes every new MUMPS instance costs memory (README).
+# Newton's order probed at every 10th ironing step: each probe is three more Newton
+# iterations (at every step it was measured too: the same orders, README).
 PROBE_EVERY = 10
 # The surface carrying the multiplier, and the die's triangles' size over the block's.
 CONTACTORS = (("block", 1.0), ("die", 1.0), ("die", 2.0))

@@ -70,6 +70,37 @@ def test_large_sliding_patch_test(degree):
             assert len(set(factors)) <= 3 < solves
 
 
+def test_stalled_newton_analyses_once_more_then_raises():
+    """An rtol below round-off: one fresh analysis of the kept pattern, then the error.
+
+    Measured (P1 patch, 2 ranks): the residual's floor is 1e-13 with a fresh analysis
+    at every solve and 1e-12 with the step's kept one; 1e-14 on 1 rank.
+
+    A step's kept factorization reuses an earlier matrix's analysis; where the residual
+    stops falling near the tolerance the next factorization is analysed anew, once a
+    step: the floor that stays is the problem's own, and the step raises with its history.
+    """
+    scene = SlidingScene(1)
+    with NonlinearContactProblem(
+        scene.F,
+        scene.u,
+        [scene.pair()],
+        scene.bcs,
+        rtol=1e-15,  # below the floor: 1e-14 on 1 rank, 1e-13 to 1e-12 on 2
+        max_iterations=8,
+        petsc_options_prefix="sliding_stall_",
+    ) as problem:
+        kept = problem.problem.system.kept
+        for attempt in range(2):
+            before = kept.patterns
+            with pytest.raises(NonlinearConvergenceError, match="smaller load steps") as error:
+                problem.solve()
+            residuals = [it.residual for it in error.value.step.iterations]
+            assert len(residuals) == 9 and residuals[-1] < 1e-9
+        # From the stalled state every iteration stalls: one new pattern, the analysis.
+        assert kept.patterns - before == 1
+
+
 @pytest.mark.parametrize(
     "degree",
     [
