@@ -73,12 +73,11 @@ def test_large_sliding_patch_test(degree):
 def test_stalled_newton_analyses_once_more_then_raises():
     """An rtol below round-off: one fresh analysis of the kept pattern, then the error.
 
-    Measured (P1 patch, 2 ranks): the residual's floor is 1e-13 with a fresh analysis
-    at every solve and 1e-12 with the step's kept one; 1e-14 on 1 rank.
-
     A step's kept factorization reuses an earlier matrix's analysis; where the residual
     stops falling near the tolerance the next factorization is analysed anew, once a
     step: the floor that stays is the problem's own, and the step raises with its history.
+    Measured (P1 patch, 2 ranks): the floor is 1e-13 with a fresh analysis at every
+    solve and 1e-12 with the step's kept one; 1e-14 on 1 rank.
     """
     scene = SlidingScene(1)
     with NonlinearContactProblem(
