@@ -90,7 +90,7 @@ def test_stalled_newton_analyses_once_more_then_raises():
         petsc_options_prefix="sliding_stall_",
     ) as problem:
         kept = problem.problem.system.kept
-        for attempt in range(2):
+        for _ in range(2):
             before = kept.patterns
             with pytest.raises(NonlinearConvergenceError, match="smaller load steps") as error:
                 problem.solve()
