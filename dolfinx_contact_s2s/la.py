@@ -114,14 +114,15 @@ def _pattern_keys(A: PETSc.Mat) -> npt.NDArray[np.int64]:
     return np.sort(rows * A.getSize()[1] + indices.astype(np.int64))
 
 
+def _inside(keys: npt.NDArray[np.int64] | None, A: PETSc.Mat) -> bool:
+    """Whether ``A``'s pattern is within the keys (None: other sizes); collective."""
+    inside = keys is not None and bool(np.isin(_pattern_keys(A), keys, assume_unique=True).all())
+    return bool(A.getComm().tompi4py().allreduce(inside, op=MPI.LAND))
+
+
 def contains_pattern(P: PETSc.Mat, A: PETSc.Mat) -> bool:
     """Whether every stored entry of ``A`` is a stored entry of ``P`` (collective; AIJ)."""
-    if P.getSizes() != A.getSizes():
-        inside = False
-    else:
-        keys = _pattern_keys(P)
-        inside = bool(np.isin(_pattern_keys(A), keys, assume_unique=True).all())
-    return bool(P.getComm().tompi4py().allreduce(inside, op=MPI.LAND))
+    return _inside(_pattern_keys(P) if P.getSizes() == A.getSizes() else None, A)
 
 
 class KeptPattern:
@@ -129,9 +130,9 @@ class KeptPattern:
 
     A KSP given the same matrix object with the same pattern refactors numerically on
     the same factor object (PETSc's ``SAME_NONZERO_PATTERN``); a new matrix object makes
-    a new factor. Each new MUMPS instance on more than one process leaks MPI
-    communicators (measured with PETSc 3.22 and 3.25, about five per instance), and a
-    long run then stalls: a Newton step of moving contact (a new coupling every
+    a new factor. A new MUMPS instance on more than one process can leak MPI
+    communicators (a bare petsc4py loop: about five per instance, PETSc 3.22 and 3.25),
+    and a long run then stalls: a Newton step of moving contact (a new coupling every
     iteration) uses one pattern, the union of its iterations' patterns.
 
     :meth:`take` copies a freshly built matrix into the kept one; :meth:`renew` lets
@@ -142,6 +143,7 @@ class KeptPattern:
     def __init__(self) -> None:
         """Nothing kept yet."""
         self.matrix: PETSc.Mat | None = None
+        self._keys: npt.NDArray[np.int64] | None = None  # the kept matrix's pattern
         #: Whether no :meth:`take` came since :meth:`renew` (or the start).
         self.fresh = True
         #: Patterns made by :meth:`take` (new matrix objects), for tests and benchmarks.
@@ -159,22 +161,23 @@ class KeptPattern:
         ``ksp`` (the solver of the kept matrix) is reset if the sizes change.
         """
         P = self.matrix
-        if P is not None and ksp is not None and P.getSizes() != A.getSizes():
+        same = P is not None and P.getSizes() == A.getSizes()
+        if P is not None and not same and ksp is not None:
             ksp.reset()
-        if P is not None and contains_pattern(P, A):
+        if P is not None and _inside(self._keys if same else None, A):
             P.zeroEntries()
             P.axpy(1.0, A, PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
             A.destroy()
             self.fresh = False
             return P
-        if P is not None and not self.fresh and P.getSizes() == A.getSizes():
+        if P is not None and not self.fresh and same:
             union = P.copy()
             union.zeroEntries()
             union.axpy(1.0, A, PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
             A.destroy()
             A = union
         self.destroy()
-        self.matrix, self.fresh = A, False
+        self.matrix, self.fresh, self._keys = A, False, _pattern_keys(A)
         self.patterns += 1
         return A
 
@@ -182,4 +185,4 @@ class KeptPattern:
         """Destroy the kept matrix."""
         if self.matrix is not None:
             self.matrix.destroy()
-        self.matrix = None
+        self.matrix, self._keys = None, None

@@ -502,11 +502,12 @@ class NonlinearContactProblem:
                 break
             if len(step.iterations) > limit:
                 break
-            if changed == 0 and not fresh and self._stalled(step) and problem.system.kept:
+            kept = problem.system.kept
+            if changed == 0 and not fresh and kept is not None and self._stalled(step):
                 # The kept pattern's analysis (pivot order, scaling) is an earlier
                 # matrix's: near the tolerance its solves can floor the residual.
                 logger.info("Newton stalls at %.2e: the next factorization analysed anew", residual)
-                problem.system.kept.destroy()
+                kept.destroy()
                 fresh = True  # once a step: a floor that stays is the problem's own
             before = self._active()
             start = [ui.x.array.copy() for ui in self.u]
