@@ -153,7 +153,7 @@ test-mpi:
 # node-to-segment too: under DOLFINx 0.11 a rank owns no contactor face there.
 test-mpi3:
 	@echo "== [$(SUITE)] parallel consistency, 3 ranks"
-	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py \
+	S2S_SUITE=$(SUITE) $(ENV_RUN) $(TIMEOUT) mpirun -n 3 --oversubscribe python3 -m mpi4py -m pytest -q -p no:cacheprovider tests/test_ranks.py tests/test_refinement.py \
 	    tests/test_contact_3d.py::test_ranks_agree tests/test_contact_3d.py::test_same_coupling_on_any_number_of_ranks \
 	    tests/test_node_to_segment_3d.py::test_fails_on_non_matching_meshes
 

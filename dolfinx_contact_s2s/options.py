@@ -22,13 +22,18 @@ from collections.abc import Callable
 
 from petsc4py import PETSc
 
+import numpy as np
+
 __all__ = [
     "MUMPS_WORKSPACE_ERRORS",
     "PETScOptions",
     "mumps_factor",
+    "refine_distributed",
     "solve_retrying",
     "solver_failure",
 ]
+
+_EPS = float(np.finfo(np.float64).eps)
 
 # Under the name of the problem module, where these messages were always logged.
 logger = logging.getLogger("dolfinx_contact_s2s.problem")
@@ -159,6 +164,56 @@ def solver_failure(ksp: PETSc.KSP, prefix: str) -> str:
     return f"{text}: MUMPS INFOG(1) = {info}, INFOG(2) = {F.getMumpsInfog(2)}"
 
 
+def refine_distributed(ksp: PETSc.KSP, b: PETSc.Vec, x: PETSc.Vec) -> int:
+    r"""MUMPS's iterative refinement (ICNTL(10)) where MUMPS leaves it out: in parallel.
+
+    MUMPS refines only a solution it returns on the host process, and PETSc has MUMPS
+    keep the solution distributed on more than one process (ICNTL(21) = 1): ICNTL(10)
+    is then ignored (INFOG(15) = 0 steps). Measured on the P1 patch test's saddle point
+    of 263 unknowns on 3 processes: a backward error of 83-115 eps without the steps,
+    against 0.4 eps on one process with MUMPS's own. This takes the same steps on the
+    same factor, :math:`\mathbf x \leftarrow \mathbf x + \mathbf F^{-1}(\mathbf b -
+    \mathbf A \mathbf x)`: :math:`|n|` of them for ICNTL(10) = :math:`n < 0`; for
+    :math:`n > 0` up to :math:`n`, stopping as MUMPS does once the normwise backward
+    error :math:`\|\mathbf b - \mathbf A\mathbf x\|_\infty / (\|\mathbf
+    A\|_\infty \|\mathbf x\|_\infty + \|\mathbf b\|_\infty)` is at round-off or
+    no longer halves.
+
+    Args:
+        ksp: A solver that has just solved ``A x = b``.
+        b: Right-hand side.
+        x: Solution, refined in place.
+
+    Returns:
+        The number of steps taken (0 without a MUMPS factor, on one process, or with
+        ICNTL(10) = 0 or a Schur complement).
+    """
+    F = mumps_factor(ksp)
+    if F is None or ksp.getConvergedReason() < 0 or F.getMumpsIcntl(21) != 1:
+        return 0
+    steps = F.getMumpsIcntl(10)
+    if steps == 0 or F.getMumpsIcntl(19) != 0 or F.getMumpsInfog(15) != 0:
+        return 0
+    A = ksp.getOperators()[0]
+    pc = ksp.getPC()
+    r, dx = b.duplicate(), x.duplicate()
+    inf = PETSc.NormType.INFINITY
+    scale = A.norm(inf)
+    previous, taken = float("inf"), 0
+    for _ in range(abs(steps)):
+        A.mult(x, r)
+        r.aypx(-1.0, b)
+        omega = r.norm(inf) / (scale * x.norm(inf) + b.norm(inf) or 1.0)
+        if steps > 0 and (omega <= 2.0 * _EPS or omega > 0.5 * previous):
+            break
+        pc.apply(r, dx)
+        x.axpy(1.0, dx)
+        previous, taken = omega, taken + 1
+    r.destroy()
+    dx.destroy()
+    return taken
+
+
 def solve_retrying(
     ksp: PETSc.KSP,
     configure: Callable[[], None],
@@ -170,7 +225,8 @@ def solve_retrying(
     """``ksp.solve(b, x)``; a MUMPS workspace error is met by doubling ICNTL(14).
 
     Up to ``retries`` times, raising ICNTL(14) in ``options`` (the solver's, or another
-    KSP's under the same options: a penalty solve).
+    KSP's under the same options: a penalty solve). In parallel, MUMPS's iterative
+    refinement is then taken by :func:`refine_distributed`.
 
     Args:
         ksp: The solver, configured.
@@ -194,3 +250,4 @@ def solve_retrying(
         ksp.reset()
         configure()
         ksp.solve(b, x)
+    refine_distributed(ksp, b, x)

@@ -47,7 +47,8 @@ logger = logging.getLogger("dolfinx_contact_s2s.problem")
 #: general symmetric mode, SYM = 2, for the indefinite saddle point) when every
 #: :math:`\mathbf K` is symmetric, and ``"lu"`` otherwise; two steps of iterative
 #: refinement (ICNTL(10) = -2): the pivots follow how B is stored, and a patch test of a
-#: few hundred unknowns kept 1e-11 of round-off without them (1e-13 with them).
+#: few hundred unknowns kept 1e-11 of round-off without them (1e-13 with them); on
+#: several processes, where MUMPS skips them, :func:`~.options.refine_distributed`.
 DEFAULT_OPTIONS = {
     "ksp_type": "preonly",
     "pc_type": "cholesky",
