@@ -41,6 +41,8 @@ import dolfinx
 import numpy as np
 import numpy.typing as npt
 
+from dolfinx_contact_s2s.quadrature import split_face_rule
+
 __all__ = ["ContactFront", "contact_front", "curvature_indicator"]
 
 #: The inactive nodes within this many edges of the front fit the gap estimate.
@@ -168,22 +170,6 @@ def _unique_edges(faces: npt.NDArray, cell: str) -> npt.NDArray:
     return np.unique(np.sort(np.concatenate([faces[:, list(e)] for e in ref]), axis=1), axis=0)
 
 
-def _face_rule(cell: str) -> tuple[npt.NDArray, npt.NDArray]:
-    """A Gauss rule of degree 8 on each of 16 pieces of the reference face.
-
-    The kink of :math:`(r - e)_+^{3/2}` inside a face then costs accuracy on one piece.
-    """
-    s, w = basix.make_quadrature(basix.CellType[cell], 8)
-    k = 4
-    if cell == "quadrilateral":
-        shifts = [((i, j), 1.0) for i in range(k) for j in range(k)]
-    else:
-        shifts = [((i, j), 1.0) for i in range(k) for j in range(k - i)]
-        shifts += [((i + 1, j + 1), -1.0) for i in range(k) for j in range(k - i - 1)]
-    points = np.concatenate([(np.array(c) + sign * s) / k for c, sign in shifts])
-    return points, np.tile(w / k**2, len(shifts))
-
-
 def _gap_radius(
     X: npt.NDArray,
     on: npt.NDArray,
@@ -198,7 +184,8 @@ def _gap_radius(
 
     The inactive nodes with a positive weighted gap within :data:`GAP_RINGS` edges of the
     front; on each of their faces (on its chords: flat faces through the vertices) the
-    model :math:`\int \mu_k (r - e)_+^{3/2}` by :func:`_face_rule`; for each :math:`e`,
+    model :math:`\int \mu_k (r - e)_+^{3/2}` by a degree-8 rule on each of 16 pieces of
+    the face (the kink then costs accuracy on a few pieces); for each :math:`e`,
     :math:`C` minimizes :math:`\sum_k (1 - C m_k(e) / \tilde g_k)^2`; :math:`e` minimizes
     the rest (a scan of the search interval, then golden sections).
     """
@@ -217,7 +204,7 @@ def _gap_radius(
     index[nodes] = np.arange(nodes.size)
     around = faces[np.isin(faces, nodes).any(axis=1)]
     local, corners = index[around], X[around]
-    points, weights = _face_rule(cell)
+    points, weights = split_face_rule(cell, 8, 4)
     element = basix.create_element(basix.ElementFamily.P, basix.CellType[cell], 1)
     phi = element.tabulate(1, points)[:, :, :, 0]
     mu = phi[0]
