@@ -20,6 +20,7 @@ __all__ = [
     "SYMMETRY_TOLERANCE",
     "KeptPattern",
     "add_scaled",
+    "backward_error",
     "contains_pattern",
     "gather_dense",
     "indicator",
@@ -35,6 +36,35 @@ def add_scaled(B: PETSc.Mat, u: PETSc.Vec, t: float, y: PETSc.Vec) -> None:
     B.mult(u, w)
     y.axpy(t, w)
     w.destroy()
+
+
+def backward_error(
+    A: PETSc.Mat, b: PETSc.Vec, x: PETSc.Vec, residual: PETSc.Vec | None = None
+) -> float:
+    r"""Normwise backward error of a solution ``x`` of :math:`\mathbf A \mathbf x = \mathbf b`.
+
+    :math:`\eta = \|\mathbf b - \mathbf A\mathbf x\|_\infty / (\|\mathbf A\|_\infty
+    \|\mathbf x\|_\infty + \|\mathbf b\|_\infty)` (Rigal-Gaches), the smallest relative
+    normwise perturbation of :math:`\mathbf A` and :math:`\mathbf b` of which ``x`` is the
+    exact solution. Collective. ``inf`` for a ``"nest"`` matrix.
+
+    Args:
+        A: The matrix.
+        b: The right-hand side.
+        x: The solution.
+        residual: If given, filled with :math:`\mathbf b - \mathbf A\mathbf x`.
+    """
+    if A.getType() == PETSc.Mat.Type.NEST:
+        return float("inf")
+    r = b.duplicate() if residual is None else residual
+    A.mult(x, r)
+    r.aypx(-1.0, b)
+    inf = PETSc.NormType.INFINITY
+    rnorm = r.norm(inf)
+    if residual is None:
+        r.destroy()
+    scale = A.norm(inf) * x.norm(inf) + b.norm(inf)
+    return rnorm / scale if scale > 0 else rnorm
 
 
 def plain_vector(nest: PETSc.Mat) -> PETSc.Vec:

@@ -29,7 +29,7 @@ import ufl
 from dolfinx_contact_s2s import checks
 from dolfinx_contact_s2s.assemble import CouplingOperator
 from dolfinx_contact_s2s.checks.advice import unsupported_error
-from dolfinx_contact_s2s.la import is_symmetric
+from dolfinx_contact_s2s.la import backward_error, is_symmetric
 from dolfinx_contact_s2s.options import solver_failure
 from dolfinx_contact_s2s.pair import ContactPair
 
@@ -331,26 +331,6 @@ def relative_residual(A: PETSc.Mat, b: PETSc.Vec, x: PETSc.Vec) -> float:
     rnorm, bnorm = r.norm(), b.norm()
     r.destroy()
     return rnorm / bnorm if bnorm > 0 else rnorm
-
-
-def backward_error(A: PETSc.Mat, b: PETSc.Vec, x: PETSc.Vec) -> float:
-    r"""Normwise backward error of a solution ``x`` of :math:`\mathbf A \mathbf x = \mathbf b`.
-
-    :math:`\eta = \|\mathbf b - \mathbf A\mathbf x\|_\infty / (\|\mathbf A\|_\infty
-    \|\mathbf x\|_\infty + \|\mathbf b\|_\infty)` (Rigal-Gaches), the smallest relative
-    normwise perturbation of :math:`\mathbf A` and :math:`\mathbf b` of which ``x`` is the
-    exact solution. Collective. ``inf`` for a ``"nest"`` matrix.
-    """
-    if A.getType() == PETSc.Mat.Type.NEST:
-        return float("inf")
-    r = b.duplicate()
-    A.mult(x, r)
-    r.aypx(-1.0, b)
-    rnorm = r.norm(PETSc.NormType.INFINITY)
-    r.destroy()
-    inf = PETSc.NormType.INFINITY
-    scale = A.norm(inf) * x.norm(inf) + b.norm(inf)
-    return rnorm / scale if scale > 0 else rnorm
 
 
 def check_solve(

@@ -18,21 +18,12 @@ from petsc4py import PETSc
 import numpy as np
 import pytest
 
+from dolfinx_contact_s2s.la import backward_error
 from dolfinx_contact_s2s.options import mumps_factor, refine_distributed
 from paper.blocks import block_problem
 from paper.scenes import patch_test
 
 EPS = np.finfo(np.float64).eps
-
-
-def _backward_error(A: PETSc.Mat, b: PETSc.Vec, x: PETSc.Vec) -> float:
-    r = b.duplicate()
-    A.mult(x, r)
-    r.aypx(-1.0, b)
-    inf = PETSc.NormType.INFINITY
-    omega = r.norm(inf) / (A.norm(inf) * x.norm(inf) + b.norm(inf))
-    r.destroy()
-    return omega
 
 
 def _row_length(A: PETSc.Mat) -> int:
@@ -66,7 +57,7 @@ def test_refined_on_any_number_of_processes(degree):
             assert (F.getMumpsIcntl(21), F.getMumpsInfog(15)) == (0, 2)
         else:
             assert (F.getMumpsIcntl(21), F.getMumpsInfog(15)) == (1, 0)
-        omega = _backward_error(problem.A, problem.b, problem.x)
+        omega = backward_error(problem.A, problem.b, problem.x)
         k = _row_length(problem.A)
         assert omega <= 2 * (k + 1) * EPS, (omega / EPS, k)
 
