@@ -3,13 +3,14 @@
 """MUMPS's iterative refinement on any number of processes.
 
 MUMPS refines only a centralized solution; PETSc keeps it distributed on more than one
-process, so ICNTL(10) is ignored there and :func:`~dolfinx_contact_s2s.options.
-refine_distributed` takes the steps. The bound on the refined backward error is the
-accuracy of the residual that drives the refinement (Higham, *Accuracy and Stability of
-Numerical Algorithms*, 2nd ed., Thm. 12.3): a row of :math:`k` entries is summed with an
-error of :math:`\\gamma_{k+1}(|\\mathbf A||\\mathbf x| + |\\mathbf b|)`, so refinement
-settles at a normwise backward error of a small multiple of :math:`(k + 1)\\epsilon`;
-without it the 3-process P1 patch test reached 115 :math:`\\epsilon`.
+process, so ICNTL(10) is ignored there and
+:func:`~dolfinx_contact_s2s.options.refine_distributed` takes the steps. The bound on
+the refined backward error is the accuracy of the residual that drives the refinement
+(Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed., Thm. 12.3): a row
+of :math:`k` entries is summed with an error of :math:`\\gamma_{k+1}(|\\mathbf
+A||\\mathbf x| + |\\mathbf b|)`, so refinement settles at a normwise backward error of
+a small multiple of :math:`(k + 1)\\epsilon` (asserted: twice that); without it the
+3-process P1 patch test reached 115 :math:`\\epsilon`.
 """
 
 from mpi4py import MPI
@@ -84,3 +85,31 @@ def test_refinement_count_follows_icntl_10():
             assert steps == (-icntl if parallel else 0)
             assert F.getMumpsInfog(15) == (0 if parallel else -icntl)
             x.destroy()
+
+
+def test_refinement_until_round_off():
+    """ICNTL(10) = n > 0: up to n steps, stopping at round-off. From a solution off by
+    1e-6 relative, in parallel: at least one step and fewer than n, and the bound of
+    :func:`test_refined_on_any_number_of_processes`; on one process nothing (MUMPS's
+    own steps)."""
+    scene = patch_test(MPI.COMM_WORLD, (10, 7))
+    with block_problem(
+        scene,
+        (1, 1),
+        "lower",
+        support="rollers",
+        pressure=1.0,
+        petsc_options_prefix="refinement_until_",
+        petsc_options={"mat_mumps_icntl_10": 10},
+    ) as problem:
+        problem.solve()
+        x = problem.x.copy()
+        x.array[:] *= 1.0 + 1e-6 * np.cos(np.arange(x.array.size))
+        steps = refine_distributed(problem.solver, problem.b, x)
+        if MPI.COMM_WORLD.size == 1:
+            assert steps == 0
+        else:
+            assert 1 <= steps < 10
+            omega = backward_error(problem.A, problem.b, x)
+            assert omega <= 2 * (_row_length(problem.A) + 1) * EPS, omega / EPS
+        x.destroy()
