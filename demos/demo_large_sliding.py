@@ -60,7 +60,7 @@ from mpi4py import MPI
 
 import numpy as np
 
-from paper.large_sliding import IRONING, ironing, sliding_patch
+from paper.large_sliding import IRONING, ironing, sliding_patch, steady_window
 from paper.records import merge_rank_records
 from paper.report import demo_parser, output_folder, rank0_print, verdict, write_section
 
@@ -131,8 +131,8 @@ for degree in DEGREES:
 # ## Ironing
 
 # +
-for (contactor, coarsening), h, method in itertools.product(
-    CONTACTORS, SIZES, ("segment-to-segment", "node-to-segment")
+for (family, (contactor, coarsening)), h, method in itertools.product(
+    enumerate(CONTACTORS), SIZES, ("segment-to-segment", "node-to-segment")
 ):
     rec = ironing(
         comm,
@@ -143,12 +143,9 @@ for (contactor, coarsening), h, method in itertools.product(
         die_h=coarsening * h,
         probe_steps=PROBE_EVERY,
     )
-    rec["ranks"] = comm.size
+    rec["ranks"], rec["family"] = comm.size, family
     fy = np.asarray(rec["fy"])
-    window = (np.asarray(rec["d"]) == IRONING["press"]) & (
-        np.abs(np.asarray(rec["s"]) - 2.0) <= 1.0 + 1e-12
-    )
-    rec["raw_oscillation"] = float(np.ptp(fy[window]) / np.mean(np.abs(fy[window])))
+    window = steady_window(rec)
     records.append(rec)
     log(
         f"ironing ({contactor} contactor, die h = {coarsening * h:g}) h = {h:g} {method}: "
@@ -168,7 +165,7 @@ if not args.smoke:
     coarse = {
         (r["method"], r["h"]): r["oscillation"]
         for r in records
-        if r["scene"] == "ironing" and r["die_h"] > 1.5 * r["h"]
+        if r["scene"] == "ironing" and CONTACTORS[r["family"]][1] > 1.0
     }
     s2s = [coarse["segment-to-segment", h] for h in SIZES]
     for h, mortar in zip(SIZES, s2s, strict=True):
@@ -195,12 +192,7 @@ if comm.rank == 0:
     runs = [r for r in records if r["scene"] == "ironing"]
     fig, axes = plt.subplots(2, 3, figsize=(16, 7), sharex=True, sharey="row")
     for r in runs:
-        column = next(
-            k
-            for k, (c, ratio) in enumerate(CONTACTORS)
-            if c == r["contactor"] and abs(r["die_h"] - ratio * r["h"]) < 1e-9
-        )
-        top, bottom = axes[:, column]
+        top, bottom = axes[:, r["family"]]
         s = np.asarray(r["s"])
         pressed = np.asarray(r["d"]) == IRONING["press"]
         style = "-" if r["method"] == "segment-to-segment" else "--"

@@ -39,6 +39,7 @@ from petsc4py import PETSc
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
+import numpy.typing as npt
 import scipy.optimize
 import ufl
 
@@ -55,6 +56,7 @@ __all__ = [
     "newton_order_probe",
     "oscillation",
     "sliding_patch",
+    "steady_window",
     "stretch",
 ]
 
@@ -352,8 +354,9 @@ def ironing(
         die's top ends), ``h`` and ``die_h``, ``iterations`` and ``orders`` per step,
         ``probes`` (per step, the probe's order and whether its set settled, or ``None``
         where it was not probed),
-        ``probe`` (:func:`newton_order_probe` at the end of the slide), ``oscillation`` and
-        ``horizontal_oscillation`` (see :func:`oscillation`), ``unknowns``,
+        ``probe`` (:func:`newton_order_probe` at the end of the slide), ``oscillation``,
+        ``raw_oscillation`` and ``horizontal_oscillation`` (see :func:`oscillation`),
+        ``unknowns``,
         ``contact_facets`` and ``seconds``.
     """
     begin = time.perf_counter()
@@ -427,27 +430,34 @@ def ironing(
             int(facet_tags.find(BLOCK_TOP if contactor == "block" else DIE_ARC).size), op=MPI.SUM
         ),
         oscillation=oscillation(record),
+        raw_oscillation=oscillation(record, raw=True),
         horizontal_oscillation=oscillation(record, "fx"),
         seconds=comm.allreduce(time.perf_counter() - begin, op=MPI.MAX),
     )
     return record
 
 
-def oscillation(record: dict[str, typing.Any], component: str = "fy") -> float:
+def steady_window(record: dict[str, typing.Any]) -> npt.NDArray[np.bool_]:
+    """The pressed steps of an ironing record with ``s`` in :data:`IRONING`'s ``"steady"``."""
+    s, d = np.asarray(record["s"]), np.asarray(record["d"])
+    low, high = IRONING["steady"]
+    return (d == IRONING["press"]) & (s >= low - 1e-12) & (s <= high + 1e-12)
+
+
+def oscillation(record: dict[str, typing.Any], component: str = "fy", raw: bool = False) -> float:
     """A force component's oscillation over the steady slide (see the module's text).
 
     The range of ``component`` (``"fy"`` or ``"fx"``) minus its least-squares quartic in
-    ``s``, over the pressed steps with ``s`` in :data:`IRONING`'s ``"steady"`` window,
-    divided by the mean of ``|fy|`` there (the horizontal force changes sign). NaN with
-    fewer than 8 steps in the window.
+    ``s`` (``raw``: the range itself), over the :func:`steady_window`, divided by the mean
+    of ``|fy|`` there (the horizontal force changes sign). NaN with fewer than 8 steps in
+    the window.
     """
-    s, f, fy, d = (np.asarray(record[k]) for k in ("s", component, "fy", "d"))
-    low, high = IRONING["steady"]
-    window = (d == IRONING["press"]) & (s >= low - 1e-12) & (s <= high + 1e-12)
+    s, f, fy = (np.asarray(record[k]) for k in ("s", component, "fy"))
+    window = steady_window(record)
     if np.count_nonzero(window) < 8:
         return math.nan
     x, y = s[window], f[window]
-    deviation = y - np.polyval(np.polyfit(x, y, 4), x)
+    deviation = y if raw else y - np.polyval(np.polyfit(x, y, 4), x)
     return float(np.ptp(deviation) / np.mean(np.abs(fy[window])))
 
 

@@ -30,6 +30,9 @@ def test_oscillation_measures_a_ripple_on_a_trend():
     ripple = 1e-3 * np.sin(2 * np.pi * s / 0.2 + 0.3)
     measured = oscillation({**record, "fy": trend + ripple})
     assert measured == pytest.approx(2e-3 / mean, rel=0.15)
+    # Raw: the trend's own range over the window, in closed form (its extremes on
+    # [1, 3] at s = 2 and at the window's ends: -2 and -2.3 + 0.05).
+    assert oscillation(record, raw=True) == pytest.approx(0.25 / mean, rel=1e-12)
     # Too few steps in the window to tell a ripple from a trend.
     assert np.isnan(oscillation({k: v[::60] for k, v in record.items()}))
 
