@@ -34,6 +34,19 @@ def _row_length(A: PETSc.Mat) -> int:
     return A.getComm().tompi4py().allreduce(local, op=MPI.MAX)
 
 
+def _patch_test(degree: int, prefix: str, options: dict | None = None):
+    """The P``degree`` patch test (pressure 1 on rollers), a user's mesh of 10 x 7."""
+    return block_problem(
+        patch_test(MPI.COMM_WORLD, (10, 7)),
+        (degree, degree),
+        "lower",
+        support="rollers",
+        pressure=1.0,
+        petsc_options_prefix=prefix,
+        petsc_options=options,
+    )
+
+
 @pytest.mark.parametrize("degree", [1, 2])
 def test_refined_on_any_number_of_processes(degree):
     """The patch test's saddle point solved to the residual's own accuracy.
@@ -42,15 +55,7 @@ def test_refined_on_any_number_of_processes(degree):
     (ICNTL(21) = 1, INFOG(15) = 0) and the package takes them; the backward error is
     within the same a-priori bound either way.
     """
-    scene = patch_test(MPI.COMM_WORLD, (10, 7))
-    with block_problem(
-        scene,
-        (degree, degree),
-        "lower",
-        support="rollers",
-        pressure=1.0,
-        petsc_options_prefix="refinement_",
-    ) as problem:
+    with _patch_test(degree, "refinement_") as problem:
         problem.solve()
         F = mumps_factor(problem.solver)
         assert F.getMumpsIcntl(10) == -2
@@ -66,17 +71,8 @@ def test_refined_on_any_number_of_processes(degree):
 def test_refinement_count_follows_icntl_10():
     """ICNTL(10) = -n: n fixed steps on several processes, none on one (MUMPS's own);
     ICNTL(10) = 0: none anywhere."""
-    scene = patch_test(MPI.COMM_WORLD, (10, 7))
     for icntl in (-3, 0):
-        with block_problem(
-            scene,
-            (1, 1),
-            "lower",
-            support="rollers",
-            pressure=1.0,
-            petsc_options_prefix="refinement_count_",
-            petsc_options={"mat_mumps_icntl_10": icntl},
-        ) as problem:
+        with _patch_test(1, "refinement_count_", {"mat_mumps_icntl_10": icntl}) as problem:
             problem.solve()
             x = problem.x.copy()
             steps = refine_distributed(problem.solver, problem.b, x)
@@ -92,16 +88,7 @@ def test_refinement_until_round_off():
     1e-6 relative, in parallel: at least one step and fewer than n, and the bound of
     :func:`test_refined_on_any_number_of_processes`; on one process nothing (MUMPS's
     own steps)."""
-    scene = patch_test(MPI.COMM_WORLD, (10, 7))
-    with block_problem(
-        scene,
-        (1, 1),
-        "lower",
-        support="rollers",
-        pressure=1.0,
-        petsc_options_prefix="refinement_until_",
-        petsc_options={"mat_mumps_icntl_10": 10},
-    ) as problem:
+    with _patch_test(1, "refinement_until_", {"mat_mumps_icntl_10": 10}) as problem:
         problem.solve()
         x = problem.x.copy()
         x.array[:] *= 1.0 + 1e-6 * np.cos(np.arange(x.array.size))
