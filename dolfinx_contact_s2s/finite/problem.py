@@ -275,8 +275,8 @@ class NonlinearContactProblem:
             if not s.rigid
         ]
         self._jacobians = [self._det_form(ui) for ui in self.u]
-        # One factorization per load step, not per iteration (KeptPattern: each new
-        # MUMPS instance on several processes leaks communicators).
+        # One factorization per load step, not per iteration (KeptPattern: a new MUMPS
+        # instance on several processes can leak communicators).
         self.problem.system.keep_pattern()
         self.tangent: ContactTangent | None = None
         if linearization == "full":
@@ -433,11 +433,6 @@ class NonlinearContactProblem:
         system.solve()
         return active, 1
 
-    def _stalled(self, step: NewtonStep) -> bool:
-        """Whether the last residual is not half the one before, within 1e4 rtol."""
-        r = [it.residual for it in step.iterations[-2:]]
-        return len(r) == 2 and r[1] > 0.5 * r[0] and r[1] <= 1e4 * self.rtol
-
     def _update(self, start: list, new: list, multipliers: list) -> float:
         """Move :attr:`u` to the solve's ``new`` values, halving the step while it inverts cells.
 
@@ -487,7 +482,7 @@ class NonlinearContactProblem:
         if problem.system.kept is not None:
             problem.system.kept.renew()
         active: list | None = None
-        changed, fresh = -1, False
+        changed = -1
         limit = self.max_iterations if iterations is None else int(iterations)
         for _ in range(limit + 1):
             begin = time.perf_counter()
@@ -502,13 +497,6 @@ class NonlinearContactProblem:
                 break
             if len(step.iterations) > limit:
                 break
-            kept = problem.system.kept
-            if changed == 0 and not fresh and kept is not None and self._stalled(step):
-                # The kept pattern's analysis (pivot order, scaling) is an earlier
-                # matrix's: near the tolerance its solves can floor the residual.
-                logger.info("Newton stalls at %.2e: the next factorization analysed anew", residual)
-                kept.destroy()
-                fresh = True  # once a step: a floor that stays is the problem's own
             before = self._active()
             start = [ui.x.array.copy() for ui in self.u]
             multipliers = [f.x.array.copy() for f in problem.multipliers]
